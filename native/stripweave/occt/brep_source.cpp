@@ -1,0 +1,439 @@
+#include "stripweave/occt/brep_source.h"
+
+#include "stripweave/core/error.h"
+
+#include <BRepAdaptor_Curve.hxx>
+#include <BRepAdaptor_Surface.hxx>
+#include <BRepBndLib.hxx>
+#include <BRepLProp_SLProps.hxx>
+#include <BRepMesh_IncrementalMesh.hxx>
+#include <BRepTools.hxx>
+#include <BRep_Builder.hxx>
+#include <BRep_Tool.hxx>
+#include <Bnd_Box.hxx>
+#include <Extrema_ExtPC.hxx>
+#include <Geom2d_Curve.hxx>
+#include <IFSelect_ReturnStatus.hxx>
+#include <IGESControl_Reader.hxx>
+#include <Message.hxx>
+#include <Message_Messenger.hxx>
+#include <Poly_PolygonOnTriangulation.hxx>
+#include <Poly_Triangulation.hxx>
+#include <STEPControl_Reader.hxx>
+#include <ShapeAnalysis_Surface.hxx>
+#include <Standard_Failure.hxx>
+#include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+#include <TopTools_ListOfShape.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Edge.hxx>
+#include <TopoDS_Face.hxx>
+#include <TopoDS_Shape.hxx>
+#include <TopoDS_Vertex.hxx>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <numeric>
+#include <set>
+#include <sstream>
+
+namespace stripweave {
+
+namespace {
+
+Vec3 to_vec(const gp_Pnt& p) { return {p.X(), p.Y(), p.Z()}; }
+Vec3 to_vec(const gp_Dir& d) { return {d.X(), d.Y(), d.Z()}; }
+gp_Pnt to_pnt(const Vec3& p) { return gp_Pnt(p.x(), p.y(), p.z()); }
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext;
+}
+
+// Union-find over the per-face triangulation nodes ("slots").
+struct DisjointSets {
+  std::vector<Index> parent;
+  explicit DisjointSets(Index n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
+  Index find(Index a) {
+    while (parent[a] != a) a = parent[a] = parent[parent[a]];
+    return a;
+  }
+  void unite(Index a, Index b) {
+    a = find(a), b = find(b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
+};
+
+// OCCT keeps its messages on a global messenger; quiet it once so STEP
+// readers do not print to the user's terminal.
+void quiet_occt() {
+  static bool done = false;
+  if (done) return;
+  done = true;
+  Message::DefaultMessenger()->RemovePrinters(STANDARD_TYPE(Message_Printer));
+}
+
+}  // namespace
+
+struct BrepSource::Impl {
+  TopoDS_Shape shape;
+  TopTools_IndexedMapOfShape faces, edges, vertices;
+  TopTools_IndexedDataMapOfShapeListOfShape edge_faces;
+  mutable std::vector<std::unique_ptr<ShapeAnalysis_Surface>> analysers;  // per face, lazily
+
+  explicit Impl(const TopoDS_Shape& s) : shape(s) {
+    TopExp::MapShapes(shape, TopAbs_FACE, faces);
+    TopExp::MapShapes(shape, TopAbs_EDGE, edges);
+    TopExp::MapShapes(shape, TopAbs_VERTEX, vertices);
+    TopExp::MapShapesAndAncestors(shape, TopAbs_EDGE, TopAbs_FACE, edge_faces);
+    analysers.resize(faces.Extent());
+  }
+  const TopoDS_Face& face(Index i) const { return TopoDS::Face(faces(i + 1)); }
+  const TopoDS_Edge& edge(Index i) const { return TopoDS::Edge(edges(i + 1)); }
+
+  // Distinct faces around an edge (a seam lists its face twice).
+  std::vector<Index> faces_of_edge(Index e) const {
+    std::vector<Index> result;
+    const Index k = edge_faces.FindIndex(edge(e));
+    if (k == 0) return result;
+    for (TopTools_ListIteratorOfListOfShape it(edge_faces(k)); it.More(); it.Next()) {
+      const Index f = faces.FindIndex(it.Value()) - 1;
+      if (std::find(result.begin(), result.end(), f) == result.end()) result.push_back(f);
+    }
+    return result;
+  }
+  Index edge_use_count(Index e) const {
+    const Index k = edge_faces.FindIndex(edge(e));
+    return k == 0 ? 0 : edge_faces(k).Extent();
+  }
+};
+
+BrepSource::BrepSource(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+BrepSource::~BrepSource() = default;
+
+std::shared_ptr<BrepSource> BrepSource::from_file(const std::string& path) {
+  quiet_occt();
+  namespace fs = std::filesystem;
+  if (!fs::exists(path)) throw InputError("cannot read '" + path + "': the file does not exist");
+  if (fs::is_directory(path)) throw InputError("cannot read '" + path + "': it is a directory");
+  if (fs::file_size(path) == 0) throw InputError("cannot read '" + path + "': the file is empty");
+  const std::string ext = lower_extension(path);
+  TopoDS_Shape shape;
+  try {
+    if (ext == ".step" || ext == ".stp") {
+      STEPControl_Reader reader;
+      if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
+        throw InputError("cannot read '" + path + "': not a valid STEP file");
+      if (reader.TransferRoots() == 0) throw InputError("'" + path + "' holds no shape that can be transferred");
+      shape = reader.OneShape();
+    } else if (ext == ".iges" || ext == ".igs") {
+      IGESControl_Reader reader;
+      if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
+        throw InputError("cannot read '" + path + "': not a valid IGES file");
+      if (reader.TransferRoots() == 0) throw InputError("'" + path + "' holds no shape that can be transferred");
+      shape = reader.OneShape();
+    } else if (ext == ".brep" || ext == ".brp") {
+      BRep_Builder builder;
+      if (!BRepTools::Read(shape, path.c_str(), builder) || shape.IsNull())
+        throw InputError("cannot read '" + path + "': not a valid BREP file");
+    } else {
+      throw InputError("unknown CAD format '" + ext + "' (expected .step, .stp, .iges, .igs, .brep or .brp)");
+    }
+  } catch (const Standard_Failure& f) {
+    throw InputError("cannot read '" + path + "': " + f.GetMessageString());
+  }
+  return checked(std::make_unique<Impl>(shape), "'" + path + "'");
+}
+
+std::shared_ptr<BrepSource> BrepSource::from_brep_string(const std::string& text) {
+  quiet_occt();
+  if (text.empty()) throw InputError("the BREP text is empty");
+  TopoDS_Shape shape;
+  try {
+    std::istringstream in(text);
+    BRep_Builder builder;
+    BRepTools::Read(shape, in, builder);
+  } catch (const Standard_Failure& f) {
+    throw InputError(std::string("not a valid BREP text: ") + f.GetMessageString());
+  }
+  if (shape.IsNull()) throw InputError("not a valid BREP text: no shape could be read");
+  return checked(std::make_unique<Impl>(shape), "the shape");
+}
+
+std::shared_ptr<BrepSource> BrepSource::checked(std::unique_ptr<Impl> impl, const std::string& what) {
+  if (impl->faces.Extent() == 0) throw InputError(what + " has no faces (only wires, edges or vertices)");
+  Index overloaded = 0;
+  for (Index e = 0; e < impl->edges.Extent(); ++e)
+    if (impl->faces_of_edge(e).size() > 2 || impl->edge_use_count(e) > 2) ++overloaded;
+  if (overloaded > 0)
+    throw InputError(what + " is non-manifold: " + std::to_string(overloaded) +
+                     (overloaded == 1 ? " edge is" : " edges are") + " shared by more than two faces");
+  return std::shared_ptr<BrepSource>(new BrepSource(std::move(impl)));
+}
+
+Index BrepSource::num_faces() const { return impl_->faces.Extent(); }
+Index BrepSource::num_edges() const { return impl_->edges.Extent(); }
+
+BoundingBox BrepSource::bounding_box() const {
+  Bnd_Box box;
+  BRepBndLib::Add(impl_->shape, box, /*useTriangulation=*/false);
+  BoundingBox result;
+  if (box.IsVoid()) return result;
+  double x0, y0, z0, x1, y1, z1;
+  box.Get(x0, y0, z0, x1, y1, z1);
+  result.add({x0, y0, z0});
+  result.add({x1, y1, z1});
+  return result;
+}
+
+BrepTessellation BrepSource::tessellate(double linear_deflection, double angular_deflection_rad) const {
+  const Impl& s = *impl_;
+  // Reuse of an existing triangulation would make results depend on who
+  // meshed the shape before (FreeCAD's view does); start clean.
+  BRepTools::Clean(s.shape);
+  try {
+    BRepMesh_IncrementalMesh mesher(s.shape, linear_deflection, false, angular_deflection_rad, false);
+  } catch (const Standard_Failure& f) {
+    throw InputError(std::string("OpenCASCADE could not tessellate the shape: ") + f.GetMessageString());
+  }
+
+  BrepTessellation out;
+  const Index nf = num_faces();
+  std::vector<Handle(Poly_Triangulation)> tri(nf);
+  std::vector<TopLoc_Location> loc(nf);
+  std::vector<Index> slot_offset(nf + 1, 0);
+  for (Index f = 0; f < nf; ++f) {
+    tri[f] = BRep_Tool::Triangulation(s.face(f), loc[f]);
+    if (tri[f].IsNull() || tri[f]->NbTriangles() == 0) {
+      ++out.unmeshed_faces;
+      tri[f].Nullify();
+    }
+    slot_offset[f + 1] = slot_offset[f] + (tri[f].IsNull() ? 0 : tri[f]->NbNodes());
+  }
+
+  // Every node of every face triangulation is a slot; slots that stand for
+  // the same point of a shared edge or vertex are united. BRepMesh discretizes
+  // each edge once, so the k-th node of an edge's polygon is the same point
+  // in every face that uses the edge.
+  DisjointSets sets(slot_offset[nf]);
+  std::map<std::pair<Index, Index>, Index> key_slot;  // (edge, k) or (-1-vertex, 0)
+  auto bind = [&](std::pair<Index, Index> key, Index slot) {
+    auto [it, inserted] = key_slot.emplace(key, slot);
+    if (!inserted) sets.unite(it->second, slot);
+  };
+  std::vector<std::array<Index, 3>> segments;  // slot, slot, edge
+  std::set<Index> corner_slots;
+  for (Index f = 0; f < nf; ++f) {
+    if (tri[f].IsNull()) continue;
+    for (TopExp_Explorer ex(s.face(f), TopAbs_EDGE); ex.More(); ex.Next()) {
+      const TopoDS_Edge& edge = TopoDS::Edge(ex.Current());
+      const Index e = s.edges.FindIndex(edge) - 1;
+      const Handle(Poly_PolygonOnTriangulation)& poly = BRep_Tool::PolygonOnTriangulation(edge, tri[f], loc[f]);
+      if (poly.IsNull()) continue;
+      const TColStd_Array1OfInteger& nodes = poly->Nodes();
+      const Index n = nodes.Length();
+      TopoDS_Vertex v_first, v_last;
+      TopExp::Vertices(TopoDS::Edge(edge.Oriented(TopAbs_FORWARD)), v_first, v_last);
+      // Count nodes from the edge's first parameter, whatever the polygon's order.
+      const bool reversed = poly->HasParameters() && n > 1 && poly->Parameter(nodes.Lower()) > poly->Parameter(nodes.Upper());
+      for (Index i = 0; i < n; ++i) {
+        const Index k = reversed ? n - 1 - i : i;
+        const Index slot = slot_offset[f] + nodes(nodes.Lower() + i) - 1;
+        if (BRep_Tool::Degenerated(edge) || k == 0 || k == n - 1) {
+          const TopoDS_Vertex& v = (k == 0 || BRep_Tool::Degenerated(edge)) ? v_first : v_last;
+          if (!v.IsNull()) {
+            bind({-1 - (s.vertices.FindIndex(v) - 1), 0}, slot);
+            corner_slots.insert(slot);
+            continue;
+          }
+        }
+        bind({e, k}, slot);
+      }
+      if (!BRep_Tool::Degenerated(edge))
+        for (Index i = 0; i + 1 < n; ++i)
+          segments.push_back({slot_offset[f] + nodes(nodes.Lower() + i) - 1,
+                              slot_offset[f] + nodes(nodes.Lower() + i + 1) - 1, e});
+    }
+  }
+
+  std::vector<Index> vertex_of_root(slot_offset[nf], kInvalid);
+  auto vertex_of = [&](Index slot) {
+    const Index root = sets.find(slot);
+    if (vertex_of_root[root] == kInvalid) {
+      vertex_of_root[root] = out.mesh.num_vertices();
+      Index f = static_cast<Index>(std::upper_bound(slot_offset.begin(), slot_offset.end(), root) - slot_offset.begin()) - 1;
+      const gp_Pnt p = tri[f]->Node(root - slot_offset[f] + 1).Transformed(loc[f].Transformation());
+      out.mesh.positions.push_back(to_vec(p));
+    }
+    return vertex_of_root[root];
+  };
+  for (Index f = 0; f < nf; ++f) {
+    if (tri[f].IsNull()) continue;
+    const bool flip = s.face(f).Orientation() == TopAbs_REVERSED;
+    for (Index t = 1; t <= tri[f]->NbTriangles(); ++t) {
+      Standard_Integer a, b, c;
+      tri[f]->Triangle(t).Get(a, b, c);
+      if (flip) std::swap(b, c);
+      const Tri tv = {vertex_of(slot_offset[f] + a - 1), vertex_of(slot_offset[f] + b - 1),
+                      vertex_of(slot_offset[f] + c - 1)};
+      if (tv[0] == tv[1] || tv[1] == tv[2] || tv[2] == tv[0]) {
+        ++out.collapsed_triangles;  // a fan at a pole or on a degenerate edge
+        continue;
+      }
+      out.mesh.triangles.push_back(tv);
+      out.face_of_triangle.push_back(f);
+    }
+  }
+  std::set<std::pair<EdgeKey, Index>> seen;
+  for (const auto& [a, b, e] : segments) {
+    const EdgeKey k = edge_key(vertex_of(a), vertex_of(b));
+    if (k[0] == k[1] || !seen.insert({k, e}).second) continue;
+    out.edge_segments.push_back(k);
+    out.segment_edge.push_back(e);
+  }
+  std::set<Index> corners;
+  for (Index slot : corner_slots) corners.insert(vertex_of(slot));
+  out.corner_vertices.assign(corners.begin(), corners.end());
+  return out;
+}
+
+Index BrepSource::edge_face_count(Index e) const {
+  return static_cast<Index>(std::min<Index>(2, impl_->edge_use_count(e)));
+}
+
+std::vector<Index> BrepSource::face_edges(Index face) const {
+  std::vector<Index> result;
+  for (TopExp_Explorer ex(impl_->face(face), TopAbs_EDGE); ex.More(); ex.Next()) {
+    const Index e = impl_->edges.FindIndex(ex.Current()) - 1;
+    if (std::find(result.begin(), result.end(), e) == result.end()) result.push_back(e);
+  }
+  return result;
+}
+
+std::vector<bool> BrepSource::sharp_edges(double angle_deg) const {
+  const Impl& s = *impl_;
+  const double cos_limit = std::cos(angle_deg * M_PI / 180.0);
+  std::vector<bool> sharp(num_edges(), false);
+  constexpr int kSamples = 9;  // along the edge: a dihedral may vary (a blend running out)
+  for (Index e = 0; e < num_edges(); ++e) {
+    const TopoDS_Edge& edge = s.edge(e);
+    if (BRep_Tool::Degenerated(edge)) continue;
+    const std::vector<Index> fs = s.faces_of_edge(e);
+    if (fs.size() != 2) continue;  // free edge (boundary) or seam
+    double first, last;
+    Handle(Geom2d_Curve) pc[2];
+    BRepAdaptor_Surface surf[2] = {BRepAdaptor_Surface(s.face(fs[0])), BRepAdaptor_Surface(s.face(fs[1]))};
+    bool ok = true;
+    for (int i = 0; i < 2; ++i) {
+      pc[i] = BRep_Tool::CurveOnSurface(edge, s.face(fs[i]), first, last);
+      ok = ok && !pc[i].IsNull();
+    }
+    if (!ok) continue;
+    for (int j = 0; j < kSamples && !sharp[e]; ++j) {
+      const double t = first + (last - first) * (j + 0.5) / kSamples;
+      Vec3 n[2];
+      bool defined = true;
+      for (int i = 0; i < 2; ++i) {
+        const gp_Pnt2d uv = pc[i]->Value(t);
+        BRepLProp_SLProps props(surf[i], uv.X(), uv.Y(), 1, 1e-9);
+        if (!props.IsNormalDefined()) {
+          defined = false;
+          break;
+        }
+        n[i] = to_vec(props.Normal());
+        if (s.face(fs[i]).Orientation() == TopAbs_REVERSED) n[i] = -n[i];
+      }
+      if (defined && n[0].dot(n[1]) < cos_limit) sharp[e] = true;
+    }
+  }
+  return sharp;
+}
+
+SurfacePoint BrepSource::evaluate(Index face, const Vec3& p) const {
+  const Impl& s = *impl_;
+  const TopoDS_Face& f = s.face(face);
+  auto& analyser = s.analysers[face];
+  if (!analyser) analyser = std::make_unique<ShapeAnalysis_Surface>(BRep_Tool::Surface(f));
+  SurfacePoint result;
+  try {
+    const gp_Pnt2d uv = analyser->ValueOfUV(to_pnt(p), 1e-9);
+    BRepAdaptor_Surface surface(f, /*restriction=*/false);
+    BRepLProp_SLProps props(surface, uv.X(), uv.Y(), 2, 1e-9);
+    result.position = to_vec(props.Value());
+    result.distance = (result.position - p).norm();
+    // OCCT's normal is dU x dV; a reversed face's outward normal is its opposite.
+    const double side = f.Orientation() == TopAbs_REVERSED ? -1.0 : 1.0;
+    if (!props.IsNormalDefined()) return result;
+    result.normal_defined = true;
+    result.normal = side * to_vec(props.Normal());
+    if (!props.IsCurvatureDefined()) return result;
+    // OCCT measures curvature against dU x dV: positive when the surface
+    // bends toward that normal. Ours is positive where convex, i.e. bending
+    // away from the outward normal: k_ours = -side * k_occt, and negation
+    // swaps which of the two is the minimum.
+    const double kmax = props.MaxCurvature(), kmin = props.MinCurvature();
+    Vec3 dmax, dmin;
+    if (props.IsUmbilic()) {
+      const Vec3 n = result.normal;
+      dmax = (std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(n).normalized();
+      dmin = n.cross(dmax);
+    } else {
+      gp_Dir gmax, gmin;
+      props.CurvatureDirections(gmax, gmin);
+      dmax = to_vec(gmax), dmin = to_vec(gmin);
+    }
+    if (side > 0) {
+      result.k_min = -kmax, result.d_min = dmax;
+      result.k_max = -kmin, result.d_max = dmin;
+    } else {
+      result.k_min = kmin, result.d_min = dmin;
+      result.k_max = kmax, result.d_max = dmax;
+    }
+    result.curvature_defined = true;
+  } catch (const Standard_Failure&) {
+    // Singular parameterizations (poles, apexes) leave the values undefined;
+    // the caller fills them from neighbours.
+  }
+  return result;
+}
+
+Vec3 BrepSource::project_to_edge(Index e, const Vec3& p, double* distance) const {
+  const TopoDS_Edge& edge = impl_->edge(e);
+  Vec3 best = p;
+  double best_d = std::numeric_limits<double>::infinity();
+  if (!BRep_Tool::Degenerated(edge)) {
+    try {
+      BRepAdaptor_Curve curve(edge);
+      Extrema_ExtPC ext(to_pnt(p), curve);
+      if (ext.IsDone())
+        for (int i = 1; i <= ext.NbExt(); ++i)
+          if (ext.SquareDistance(i) < best_d) best_d = ext.SquareDistance(i), best = to_vec(ext.Point(i).Value());
+      // The ends are not always extrema.
+      for (double t : {curve.FirstParameter(), curve.LastParameter()}) {
+        const Vec3 q = to_vec(curve.Value(t));
+        if ((q - p).squaredNorm() < best_d) best_d = (q - p).squaredNorm(), best = q;
+      }
+    } catch (const Standard_Failure&) {
+    }
+  }
+  if (distance) *distance = std::sqrt(best_d);
+  return best;
+}
+
+std::string BrepSource::to_brep_string() const {
+  std::ostringstream out;
+  BRepTools::Write(impl_->shape, out);
+  return out.str();
+}
+
+bool is_brep_file(const std::string& path) {
+  const std::string ext = lower_extension(path);
+  return ext == ".step" || ext == ".stp" || ext == ".iges" || ext == ".igs" || ext == ".brep" || ext == ".brp";
+}
+
+}  // namespace stripweave

@@ -1,0 +1,88 @@
+// BrepSource: a B-rep shape and the exact geometry queries the pipeline needs
+// (the OpenCASCADE adapter; no OCCT type crosses this header).
+//
+// Construction
+//   from_file(path)          STEP (.step/.stp), IGES (.iges/.igs) or BREP
+//                            (.brep/.brp), by extension
+//   from_brep_string(text)   as FreeCAD's Shape.exportBrepToString() gives it
+//   Both throw InputError for an unreadable file, a shape with no faces, or a
+//   non-manifold shape (an edge shared by more than two faces).
+//
+// Queries (face and edge ids index OCCT's TopExp face/edge maps, 0-based)
+//   tessellate(deflection, angle)  BRepMesh_IncrementalMesh, then the per-face
+//       triangulations welded into one mesh along shared edges (seams,
+//       degenerate edges and vertices shared by many faces included), with
+//       the source face of every triangle and the mesh edges lying on each
+//       B-rep edge.
+//   sharp_edges(angle)  per B-rep edge: the largest angle between the two
+//       faces' outward normals along the edge exceeds `angle` (tangent
+//       continuous edges such as fillet borders are not sharp)
+//   edge_face_count(e)  1 for a free (open boundary) edge, 2 otherwise; a
+//       seam, bounded by one face on both sides, counts 2
+//   evaluate(face, p)   the point of the face's surface nearest to p, with
+//       its outward normal, principal curvatures (positive where convex) and
+//       directions, accounting for reversed faces
+//   project_to_edge(e, p)  the point of edge e's curve nearest to p
+#pragma once
+
+#include "stripweave/surface/triangle_mesh.h"
+
+#include <memory>
+#include <string>
+
+namespace stripweave {
+
+struct SurfacePoint {
+  Vec3 position = Vec3::Zero();
+  Vec3 normal = Vec3::Zero();
+  double k_min = 0, k_max = 0;
+  Vec3 d_min = Vec3::Zero(), d_max = Vec3::Zero();
+  bool normal_defined = false;
+  bool curvature_defined = false;
+  double distance = 0;  // from the query point to `position`
+};
+
+struct BrepTessellation {
+  TriangleMesh mesh;                     // welded, model units, outward oriented
+  std::vector<Index> face_of_triangle;   // per triangle
+  std::vector<EdgeKey> edge_segments;    // mesh edges lying on B-rep edges
+  std::vector<Index> segment_edge;       // per segment: its B-rep edge
+  std::vector<Index> corner_vertices;    // mesh vertices at B-rep vertices
+  Index unmeshed_faces = 0;              // faces BRepMesh gave no triangles
+  Index collapsed_triangles = 0;         // dropped at poles / degenerate edges
+};
+
+class BrepSource {
+ public:
+  static std::shared_ptr<BrepSource> from_file(const std::string& path);
+  static std::shared_ptr<BrepSource> from_brep_string(const std::string& text);
+  ~BrepSource();
+
+  Index num_faces() const;
+  Index num_edges() const;
+  BoundingBox bounding_box() const;
+
+  BrepTessellation tessellate(double linear_deflection, double angular_deflection_rad) const;
+  std::vector<bool> sharp_edges(double angle_deg) const;
+  Index edge_face_count(Index edge) const;
+  // B-rep edges bounding a face.
+  std::vector<Index> face_edges(Index face) const;
+
+  SurfacePoint evaluate(Index face, const Vec3& p) const;
+  Vec3 project_to_edge(Index edge, const Vec3& p, double* distance = nullptr) const;
+
+  // The shape as a BREP string (for the refit stage and for FreeCAD).
+  std::string to_brep_string() const;
+
+  struct Impl;
+
+ private:
+  explicit BrepSource(std::unique_ptr<Impl> impl);
+  static std::shared_ptr<BrepSource> checked(std::unique_ptr<Impl> impl, const std::string& what);
+  std::unique_ptr<Impl> impl_;
+};
+
+// True if the extension names a B-rep format BrepSource::from_file reads.
+bool is_brep_file(const std::string& path);
+
+}  // namespace stripweave

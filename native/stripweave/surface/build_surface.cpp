@@ -1,0 +1,352 @@
+#include "stripweave/surface/build_surface.h"
+
+#include "stripweave/cgal/jet_curvature.h"
+#include "stripweave/cgal/mesh_io.h"
+#include "stripweave/cgal/remesh.h"
+#include "stripweave/core/error.h"
+#include "stripweave/occt/brep_source.h"
+#include "stripweave/surface/feature_curves.h"
+#include "stripweave/surface/sanitize_mesh.h"
+#include "stripweave/surface/surface_report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+
+namespace stripweave {
+
+namespace {
+
+void stage(Progress* p, const char* name, double begin, double end) {
+  if (p) p->stage(name, begin, end);
+}
+
+double mesh_area(const TriangleMesh& m) {
+  double a = 0;
+  for (Index t = 0; t < m.num_triangles(); ++t) a += 0.5 * triangle_normal_area2(m, t).norm();
+  return a;
+}
+
+// The target edge length for about `count` triangles over `area`. Equilateral
+// triangles of edge L tile it with count = 4 area / (sqrt(3) L^2); CGAL's
+// remeshing ends with edges somewhat shorter than its target (it splits above
+// 4/3 L and collapses below 4/5 L), so the target is set about 10% longer.
+double edge_length_for(double area, Index count) {
+  return 1.1 * std::sqrt(4.0 * area / (std::sqrt(3.0) * count));
+}
+
+Similarity normalizing_similarity(const BoundingBox& box) {
+  Similarity s;
+  s.center = box.center();
+  s.scale = box.diagonal();
+  if (!(s.scale > 0)) throw InputError("the model has zero size (all its points coincide)");
+  return s;
+}
+
+TriangleMesh transformed(const TriangleMesh& m, const Similarity& s) {
+  TriangleMesh out = m;
+  for (Vec3& p : out.positions) p = s.to_normalized(p);
+  return out;
+}
+
+std::vector<Vec3> area_weighted_normals(const TriangleMesh& m) {
+  std::vector<Vec3> n(m.positions.size(), Vec3::Zero());
+  for (Index t = 0; t < m.num_triangles(); ++t) {
+    const Vec3 a = triangle_normal_area2(m, t);
+    for (Index v : m.triangles[t]) n[v] += a;
+  }
+  for (Vec3& x : n) x = x.norm() > 0 ? Vec3(x.normalized()) : Vec3::UnitZ();
+  return n;
+}
+
+// The common tail of both pipelines: connectivity, components, genus,
+// boundary loops.
+void finish_topology(Surface& s) {
+  s.topology = MeshTopology::build(s.mesh);
+  std::vector<Index> comp;
+  s.components = triangle_components(s.topology, s.mesh.num_triangles(), comp);
+  s.boundary_loops = boundary_loops(s.mesh, s.topology);
+  s.genus = genus_from_euler(s.mesh.num_vertices(), s.topology.num_edges(), s.mesh.num_triangles(), s.components,
+                             static_cast<Index>(s.boundary_loops.size()));
+}
+
+// Vertices where exact evaluation failed (poles, apexes) take the mean of
+// their evaluated neighbours, spreading inward until all are set.
+void fill_undefined_curvature(Surface& s, std::vector<bool> defined) {
+  const std::vector<Vec3> mesh_normal = area_weighted_normals(s.mesh);
+  for (int round = 0; round < 64; ++round) {
+    bool missing = false;
+    std::vector<bool> now = defined;
+    for (Index v = 0; v < s.mesh.num_vertices(); ++v) {
+      if (defined[v]) continue;
+      double kmin = 0, kmax = 0;
+      Vec3 dmax = Vec3::Zero();
+      int n = 0;
+      for (const Index* w = s.topology.vertex_neighbours.begin(v); w != s.topology.vertex_neighbours.end(v); ++w) {
+        if (!defined[*w]) continue;
+        kmin += s.k_min[*w], kmax += s.k_max[*w];
+        dmax += s.d_max[*w].dot(dmax) < 0 ? Vec3(-s.d_max[*w]) : s.d_max[*w];
+        ++n;
+      }
+      if (n == 0) {
+        missing = true;
+        continue;
+      }
+      const Vec3 nv = s.normal[v].squaredNorm() > 0 ? s.normal[v] : mesh_normal[v];
+      s.normal[v] = nv;
+      s.k_min[v] = kmin / n, s.k_max[v] = kmax / n;
+      Vec3 t = dmax - dmax.dot(nv) * nv;
+      if (t.norm() < 1e-12) t = (std::abs(nv.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(nv);
+      s.d_max[v] = t.normalized();
+      s.d_min[v] = nv.cross(s.d_max[v]);
+      now[v] = true;
+    }
+    defined.swap(now);
+    if (!missing) return;
+  }
+  // A component with no evaluable point at all: flat fallback.
+  for (Index v = 0; v < s.mesh.num_vertices(); ++v)
+    if (!defined[v]) {
+      s.normal[v] = mesh_normal[v];
+      s.d_max[v] = (std::abs(mesh_normal[v].x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(mesh_normal[v]).normalized();
+      s.d_min[v] = mesh_normal[v].cross(s.d_max[v]);
+      s.k_min[v] = s.k_max[v] = 0;
+    }
+}
+
+// BRepMesh sometimes leaves a tiny hole where a face has a zero-length edge
+// that is not flagged degenerate (fillet ends do this). A boundary loop of
+// the welded mesh that does not run along a free B-rep edge is such a gap:
+// close it with a fan. Returns the number of gaps closed.
+Index fill_tessellation_gaps(BrepTessellation& tess, const BrepSource& brep) {
+  MeshTopology topo = MeshTopology::build(tess.mesh);
+  std::set<EdgeKey> on_free_edge;
+  for (size_t i = 0; i < tess.edge_segments.size(); ++i)
+    if (brep.edge_face_count(tess.segment_edge[i]) < 2) on_free_edge.insert(tess.edge_segments[i]);
+  Index filled = 0;
+  for (const auto& loop : boundary_loops(tess.mesh, topo)) {
+    bool free = false;
+    for (size_t i = 0; i < loop.size() && !free; ++i)
+      free = on_free_edge.count(edge_key(loop[i], loop[(i + 1) % loop.size()])) > 0;
+    if (free || loop.size() < 3) continue;
+    // The loop runs as its neighbours' triangles do; the fill runs against it.
+    const Index face = tess.face_of_triangle[topo.edge_triangles[topo.find_edge(loop[0], loop[1])][0]];
+    for (size_t i = 1; i + 1 < loop.size(); ++i) {
+      tess.mesh.triangles.push_back({loop[0], loop[i + 1], loop[i]});
+      tess.face_of_triangle.push_back(face);
+    }
+    ++filled;
+  }
+  return filled;
+}
+
+}  // namespace
+
+Surface surface_from_brep(std::shared_ptr<const BrepSource> brep, const SurfaceOptions& opt, Progress* progress) {
+  Surface s;
+  Stopwatch clock(s.timings);
+  stage(progress, "tessellating", 0.0, 0.3);
+  const BoundingBox box = brep->bounding_box();
+  const double model_diag = box.diagonal();
+  if (!(model_diag > 0)) throw InputError("the shape has zero size");
+  const double deflection = opt.deflection > 0 ? opt.deflection : opt.relative_deflection * model_diag;
+  BrepTessellation tess = brep->tessellate(deflection, opt.angular_deflection_deg * M_PI / 180.0);
+  if (tess.mesh.triangles.empty()) throw InputError("OpenCASCADE produced no triangles for the shape");
+  if (Index gaps = fill_tessellation_gaps(tess, *brep))
+    s.warnings.push_back("closed " + std::to_string(gaps) + " tiny gap(s) in OpenCASCADE's tessellation");
+  clock.lap("tessellate");
+  s.input_triangles = tess.mesh.num_triangles();
+  s.brep = brep;
+  s.brep_faces = brep->num_faces();
+  s.similarity = normalizing_similarity(bounding_box(tess.mesh.positions));
+  if (tess.unmeshed_faces > 0)
+    s.warnings.push_back(std::to_string(tess.unmeshed_faces) + " B-rep face(s) could not be tessellated and are missing");
+
+  stage(progress, "classifying edges", 0.3, 0.35);
+  const std::vector<bool> sharp = brep->sharp_edges(opt.feature_angle_deg);
+  clock.lap("sharp_edges");
+  TriangleMesh mesh = transformed(tess.mesh, s.similarity);
+  std::vector<Index> patch = tess.face_of_triangle;
+  std::vector<Index> corners = tess.corner_vertices;
+  // Per welded mesh edge: the B-rep edge it lies on (kInvalid inside faces).
+  std::map<EdgeKey, Index> brep_edge_of;
+  for (size_t i = 0; i < tess.edge_segments.size(); ++i) brep_edge_of[tess.edge_segments[i]] = tess.segment_edge[i];
+
+  if (opt.target_triangles > 0) {
+    stage(progress, "remeshing", 0.35, 0.75);
+    // Every B-rep edge stays a polyline, so each new triangle keeps one source
+    // face; seams are not borders and remeshing crosses them freely.
+    std::vector<EdgeKey> constrained;
+    for (const auto& [k, e] : brep_edge_of)
+      if (brep->edge_face_count(e) < 2 || sharp[e]) constrained.push_back(k);
+    const double target = edge_length_for(mesh_area(mesh), opt.target_triangles);
+    RemeshResult r = remesh_isotropic(mesh, patch, constrained, corners, target, opt.remesh_iterations);
+    mesh = std::move(r.mesh);
+    patch = std::move(r.patch_of_triangle);
+    corners = std::move(r.constrained_vertices);
+    // Recover the B-rep edge of each border edge from the faces on its sides.
+    brep_edge_of.clear();
+    std::vector<std::vector<Index>> edges_of_face(brep->num_faces());
+    for (Index f = 0; f < brep->num_faces(); ++f) edges_of_face[f] = brep->face_edges(f);
+    MeshTopology topo = MeshTopology::build(mesh);
+    for (Index e = 0; e < topo.num_edges(); ++e) {
+      const auto& et = topo.edge_triangles[e];
+      const Index fa = patch[et[0]], fb = et[1] == kInvalid ? kInvalid : patch[et[1]];
+      if (fa == fb) continue;  // inside one face (or across a seam)
+      // Candidates: edges of face fa that also bound fb (or are free edges).
+      const Vec3 mid = s.similarity.to_model(0.5 * (mesh.positions[topo.edges[e][0]] + mesh.positions[topo.edges[e][1]]));
+      Index best = kInvalid;
+      double best_d = std::numeric_limits<double>::infinity();
+      for (Index be : edges_of_face[fa]) {
+        const bool shared = fb == kInvalid ? brep->edge_face_count(be) < 2
+                                           : std::find(edges_of_face[fb].begin(), edges_of_face[fb].end(), be) !=
+                                                 edges_of_face[fb].end();
+        if (!shared) continue;
+        double d;
+        brep->project_to_edge(be, mid, &d);
+        if (d < best_d) best_d = d, best = be;
+      }
+      if (best != kInvalid) brep_edge_of[topo.edges[e]] = best;
+    }
+    clock.lap("remesh");
+  }
+
+  stage(progress, "evaluating the B-rep", 0.75, 0.95);
+  s.mesh = std::move(mesh);
+  s.source_face = patch;
+  finish_topology(s);
+  const Index nv = s.mesh.num_vertices();
+  s.normal.assign(nv, Vec3::Zero());
+  s.d_min.assign(nv, Vec3::Zero());
+  s.d_max.assign(nv, Vec3::Zero());
+  s.k_min.assign(nv, 0.0);
+  s.k_max.assign(nv, 0.0);
+  std::vector<bool> defined(nv, false), is_corner(nv, false);
+  for (Index c : corners) is_corner[c] = true;
+  // The B-rep edges each vertex lies on (from the edges around it).
+  std::vector<Index> on_edge(nv, kInvalid);
+  for (const auto& [k, be] : brep_edge_of)
+    for (Index v : k) on_edge[v] = be;
+  const double scale = s.similarity.scale;
+  for (Index v = 0; v < nv; ++v) {
+    if (progress && v % 1024 == 0) progress->advance(double(v) / nv);
+    const Index face = patch[*s.topology.vertex_triangles.begin(v)];
+    Vec3 p = s.similarity.to_model(s.mesh.positions[v]);
+    // Remeshing left vertices on chords; put them back on the exact surface:
+    // corners stay, edge vertices go onto their edge curve, the rest onto
+    // their face.
+    if (!is_corner[v] && on_edge[v] != kInvalid) p = brep->project_to_edge(on_edge[v], p);
+    const SurfacePoint sp = brep->evaluate(face, p);
+    if (!is_corner[v] && on_edge[v] == kInvalid) p = sp.position;
+    s.mesh.positions[v] = s.similarity.to_normalized(p);
+    if (!sp.normal_defined) continue;
+    s.normal[v] = sp.normal;
+    if (!sp.curvature_defined) continue;
+    s.k_min[v] = sp.k_min * scale, s.k_max[v] = sp.k_max * scale;
+    s.d_min[v] = sp.d_min, s.d_max[v] = sp.d_max;
+    defined[v] = true;
+  }
+  fill_undefined_curvature(s, defined);
+  clock.lap("curvature");
+
+  stage(progress, "chaining feature curves", 0.95, 1.0);
+  std::vector<bool> is_feature(s.topology.num_edges(), false);
+  for (Index e = 0; e < s.topology.num_edges(); ++e) {
+    auto it = brep_edge_of.find(s.topology.edges[e]);
+    is_feature[e] = it != brep_edge_of.end() && sharp[it->second];
+  }
+  s.edge_class = classify_edges(s.topology, is_feature);
+  // Feature curves follow the CAD edges: a chain breaks at every B-rep vertex.
+  s.feature_curves = chain_feature_curves(s.mesh, s.topology, s.edge_class, is_corner, 0.0, s.edge_curve);
+  clock.lap("features");
+  return s;
+}
+
+Surface surface_from_mesh(const TriangleMesh& raw, const SurfaceOptions& opt, Progress* progress) {
+  Surface s;
+  Stopwatch clock(s.timings);
+  stage(progress, "checking the mesh", 0.0, 0.15);
+  SanitizedMesh clean = sanitize_mesh(raw);
+  s.input_triangles = clean.mesh.num_triangles();
+  clock.lap("sanitize");
+  s.warnings = clean.warnings;
+  s.source_mesh = std::make_shared<const TriangleMesh>(clean.mesh);
+  s.similarity = normalizing_similarity(bounding_box(clean.mesh.positions));
+  TriangleMesh mesh = transformed(clean.mesh, s.similarity);
+
+  stage(progress, "finding sharp features", 0.15, 0.25);
+  MeshTopology topo = MeshTopology::build(mesh);
+  std::vector<EdgeClass> classes = classify_edges(topo, dihedral_feature_edges(mesh, topo, opt.feature_angle_deg));
+  std::vector<Index> edge_curve;
+  std::vector<FeatureCurve> curves =
+      chain_feature_curves(mesh, topo, classes, {}, opt.min_feature_length, edge_curve);
+  clock.lap("features");
+
+  if (opt.target_triangles > 0) {
+    stage(progress, "remeshing", 0.25, 0.7);
+    std::vector<EdgeKey> constrained;
+    for (Index e = 0; e < topo.num_edges(); ++e)
+      if (classes[e] != EdgeClass::Regular) constrained.push_back(topo.edges[e]);
+    // Curve ends and corners must survive, or chains would merge or vanish.
+    std::set<Index> ends;
+    for (const auto& c : curves)
+      if (!c.closed) ends.insert(c.vertices.front()), ends.insert(c.vertices.back());
+    const double target = edge_length_for(mesh_area(mesh), opt.target_triangles);
+    RemeshResult r = remesh_isotropic(mesh, std::vector<Index>(mesh.num_triangles(), 0), constrained,
+                                      std::vector<Index>(ends.begin(), ends.end()), target, opt.remesh_iterations);
+    mesh = std::move(r.mesh);
+    topo = MeshTopology::build(mesh);
+    std::vector<bool> is_feature(topo.num_edges(), false);
+    std::set<EdgeKey> kept(r.constrained_edges.begin(), r.constrained_edges.end());
+    for (Index e = 0; e < topo.num_edges(); ++e) is_feature[e] = kept.count(topo.edges[e]) > 0;
+    classes = classify_edges(topo, is_feature);
+    std::vector<bool> is_end(mesh.num_vertices(), false);
+    for (Index v : r.constrained_vertices) is_end[v] = true;
+    curves = chain_feature_curves(mesh, topo, classes, is_end, 0.0, edge_curve);
+    clock.lap("remesh");
+  }
+  s.mesh = std::move(mesh);
+  finish_topology(s);
+  s.edge_class = std::move(classes);
+  s.edge_curve = std::move(edge_curve);
+  s.feature_curves = std::move(curves);
+  s.source_face.assign(s.mesh.num_triangles(), kInvalid);
+
+  stage(progress, "estimating curvature", 0.7, 1.0);
+  double mean_edge = 0;
+  for (const EdgeKey& e : s.topology.edges) mean_edge += (s.mesh.positions[e[0]] - s.mesh.positions[e[1]]).norm();
+  mean_edge /= std::max<Index>(1, s.topology.num_edges());
+  const double radius = opt.curvature_radius > 0 ? opt.curvature_radius : std::max(0.015, 3.0 * mean_edge);
+  CurvatureField field = jet_fit_curvature(s.mesh, radius);
+  s.normal = std::move(field.normal);
+  s.k_min = std::move(field.k_min);
+  s.k_max = std::move(field.k_max);
+  s.d_min = std::move(field.d_min);
+  s.d_max = std::move(field.d_max);
+  clock.lap("curvature");
+  return s;
+}
+
+Surface load_surface(const std::string& path, const SurfaceOptions& options, Progress* progress) {
+  // Reading is timed here, so `bench` sees it as the first stage.
+  StageTimings read_time;
+  Stopwatch clock(read_time);
+  Surface s;
+  if (is_brep_file(path)) {
+    if (progress) progress->stage("reading", 0.0, 0.0);
+    auto brep = BrepSource::from_file(path);
+    clock.lap("read");
+    s = surface_from_brep(brep, options, progress);
+  } else if (is_mesh_file(path)) {
+    TriangleMesh raw = read_mesh_file(path);
+    clock.lap("read");
+    s = surface_from_mesh(raw, options, progress);
+  } else {
+    throw InputError("unknown model format '" + path + "' (expected STEP, IGES, BREP, STL, OBJ, OFF or PLY)");
+  }
+  s.timings.insert(s.timings.begin(), read_time.begin(), read_time.end());
+  return s;
+}
+
+}  // namespace stripweave

@@ -1,0 +1,303 @@
+#include "stripweave/surface/sanitize_mesh.h"
+
+#include "stripweave/core/error.h"
+#include "stripweave/surface/mesh_topology.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+#include <sstream>
+#include <unordered_map>
+
+namespace stripweave {
+
+namespace {
+
+std::string plural(Index n, const char* one, const char* many) {
+  std::ostringstream s;
+  s << n << " " << (n == 1 ? one : many);
+  return s.str();
+}
+
+void check_input(const TriangleMesh& raw) {
+  if (raw.triangles.empty()) throw InputError("the mesh holds no triangles");
+  Index bad = 0, first = kInvalid;
+  for (Index v = 0; v < raw.num_vertices(); ++v)
+    if (!raw.positions[v].allFinite() && bad++ == 0) first = v;
+  if (bad > 0) {
+    std::ostringstream msg;
+    msg << "the mesh has " << plural(bad, "vertex", "vertices") << " with NaN or infinite coordinates (first: vertex "
+        << first << ")";
+    throw InputError(msg.str());
+  }
+  for (Index t = 0; t < raw.num_triangles(); ++t)
+    for (Index v : raw.triangles[t])
+      if (v < 0 || v >= raw.num_vertices()) {
+        std::ostringstream msg;
+        msg << "triangle " << t << " refers to vertex " << v << ", but the mesh has only " << raw.num_vertices()
+            << " vertices";
+        throw InputError(msg.str());
+      }
+}
+
+// Weld vertices with identical coordinates: STL and many exporters store every
+// triangle's corners separately.
+TriangleMesh weld_coincident(const TriangleMesh& raw) {
+  TriangleMesh out;
+  std::map<std::array<double, 3>, Index> ids;
+  std::vector<Index> remap(raw.positions.size());
+  for (Index v = 0; v < raw.num_vertices(); ++v) {
+    const Vec3& p = raw.positions[v];
+    auto [it, inserted] = ids.emplace(std::array<double, 3>{p.x(), p.y(), p.z()}, out.num_vertices());
+    if (inserted) out.positions.push_back(p);
+    remap[v] = it->second;
+  }
+  out.triangles.reserve(raw.triangles.size());
+  for (const Tri& t : raw.triangles) out.triangles.push_back({remap[t[0]], remap[t[1]], remap[t[2]]});
+  return out;
+}
+
+Index remove_repeated_and_duplicates(TriangleMesh& m, Index& duplicates) {
+  Index repeated = 0;
+  duplicates = 0;
+  std::set<std::array<Index, 3>> seen;
+  std::vector<Tri> kept;
+  kept.reserve(m.triangles.size());
+  for (const Tri& t : m.triangles) {
+    if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) {
+      ++repeated;
+      continue;
+    }
+    std::array<Index, 3> key = t;
+    std::sort(key.begin(), key.end());
+    if (!seen.insert(key).second) {
+      ++duplicates;
+      continue;
+    }
+    kept.push_back(t);
+  }
+  m.triangles.swap(kept);
+  return repeated;
+}
+
+// A zero-area triangle (a, b, c) with c on its longest edge ab is removed by
+// flipping ab in the pair (a,b,c),(b,a,d) into (c,a,d),(c,d,b): no hole opens.
+// On a boundary edge the cap is simply dropped.
+Index repair_zero_area(TriangleMesh& m) {
+  const double diag = bounding_box(m.positions).diagonal();
+  const double eps = 1e-14 * diag * diag;
+  Index repaired = 0;
+  for (int pass = 0; pass < 3; ++pass) {
+    std::unordered_map<std::uint64_t, std::vector<Index>> by_edge;
+    for (Index t = 0; t < m.num_triangles(); ++t)
+      for (int i = 0; i < 3; ++i)
+        by_edge[pack_edge(edge_key(m.triangles[t][i], m.triangles[t][(i + 1) % 3]))].push_back(t);
+    std::vector<bool> removed(m.triangles.size(), false), touched(m.triangles.size(), false);
+    Index changed = 0;
+    for (Index t = 0; t < m.num_triangles(); ++t) {
+      if (touched[t] || triangle_normal_area2(m, t).norm() > eps) continue;
+      const Tri f = m.triangles[t];
+      int longest = 0;
+      double best = -1;
+      for (int i = 0; i < 3; ++i) {
+        const double l = (m.positions[f[(i + 1) % 3]] - m.positions[f[i]]).squaredNorm();
+        if (l > best) best = l, longest = i;
+      }
+      const Index a = f[longest], b = f[(longest + 1) % 3], c = f[(longest + 2) % 3];
+      Index n = kInvalid;
+      for (Index o : by_edge[pack_edge(edge_key(a, b))])
+        if (o != t && !touched[o]) n = o;
+      if (n == kInvalid) {  // a cap on the boundary: dropping it opens no hole
+        removed[t] = touched[t] = true;
+        ++changed;
+        continue;
+      }
+      Index d = kInvalid;
+      for (Index v : m.triangles[n])
+        if (v != a && v != b) d = v;
+      if (d == kInvalid || d == c || by_edge.count(pack_edge(edge_key(c, d)))) continue;  // would duplicate an edge
+      m.triangles[t] = {c, a, d};
+      m.triangles[n] = {c, d, b};
+      touched[t] = touched[n] = true;  // adjacency is stale for these until the next pass
+      by_edge[pack_edge(edge_key(c, d))];
+      ++changed;
+    }
+    std::vector<Tri> kept;
+    kept.reserve(m.triangles.size());
+    for (Index t = 0; t < m.num_triangles(); ++t)
+      if (!removed[t]) kept.push_back(m.triangles[t]);
+    m.triangles.swap(kept);
+    repaired += changed;
+    if (changed == 0) break;
+  }
+  return repaired;
+}
+
+// Make the orientation consistent across every edge, component by component.
+// Returns the number of flipped triangles; throws for a non-orientable surface.
+Index orient_consistently(TriangleMesh& m, const MeshTopology& topo) {
+  const Index nt = m.num_triangles();
+  std::vector<int> state(nt, 0);  // 0 unvisited, 1 kept, -1 flipped
+  Index flipped = 0;
+  // Two triangles sharing edge (a,b) are consistent when they traverse it in
+  // opposite directions.
+  auto direction = [&](Index t, const EdgeKey& e) {
+    const Tri& f = m.triangles[t];
+    for (int i = 0; i < 3; ++i)
+      if (f[i] == e[0] && f[(i + 1) % 3] == e[1]) return 1;
+    return -1;
+  };
+  for (Index seed = 0; seed < nt; ++seed) {
+    if (state[seed] != 0) continue;
+    state[seed] = 1;
+    std::vector<Index> stack{seed};
+    while (!stack.empty()) {
+      const Index t = stack.back();
+      stack.pop_back();
+      for (Index e : topo.triangle_edges[t]) {
+        const Index n = topo.edge_triangles[e][0] == t ? topo.edge_triangles[e][1] : topo.edge_triangles[e][0];
+        if (n == kInvalid) continue;
+        const int want = -direction(t, topo.edges[e]) * state[t];  // n's direction times its state
+        const int needed_state = want * direction(n, topo.edges[e]);
+        if (state[n] == 0) {
+          state[n] = needed_state;
+          stack.push_back(n);
+        } else if (state[n] != needed_state) {
+          std::ostringstream msg;
+          const Vec3& p = m.positions[topo.edges[e][0]];
+          msg << "the surface is not orientable (like a Moebius strip) near (" << p.x() << ", " << p.y() << ", "
+              << p.z() << ")";
+          throw InputError(msg.str());
+        }
+      }
+    }
+  }
+  for (Index t = 0; t < nt; ++t)
+    if (state[t] < 0) {
+      std::swap(m.triangles[t][1], m.triangles[t][2]);
+      ++flipped;
+    }
+  return flipped;
+}
+
+// Give every extra fan of a pinched vertex its own copy of the vertex.
+Index split_pinched_vertices(TriangleMesh& m, const MeshTopology& topo) {
+  const auto pinched = non_manifold_vertices(m, topo);
+  for (const auto& [v, fans] : pinched) {
+    // Re-label fans: walk triangles around v joined through edges at v.
+    std::vector<Index> tris(topo.vertex_triangles.begin(v), topo.vertex_triangles.end(v));
+    std::vector<Index> fan(tris.size(), kInvalid);
+    Index count = 0;
+    for (size_t s = 0; s < tris.size(); ++s) {
+      if (fan[s] != kInvalid) continue;
+      fan[s] = count;
+      std::vector<size_t> stack{s};
+      while (!stack.empty()) {
+        const size_t i = stack.back();
+        stack.pop_back();
+        for (Index e : topo.triangle_edges[tris[i]]) {
+          if (topo.edges[e][0] != v && topo.edges[e][1] != v) continue;
+          for (Index nt : topo.edge_triangles[e])
+            for (size_t j = 0; j < tris.size(); ++j)
+              if (tris[j] == nt && fan[j] == kInvalid) {
+                fan[j] = count;
+                stack.push_back(j);
+              }
+        }
+      }
+      ++count;
+    }
+    std::vector<Index> copy(count, v);
+    for (Index c = 1; c < count; ++c) {
+      copy[c] = m.num_vertices();
+      m.positions.push_back(m.positions[v]);
+    }
+    for (size_t i = 0; i < tris.size(); ++i)
+      for (Index& w : m.triangles[tris[i]])
+        if (w == v) w = copy[fan[i]];
+  }
+  return static_cast<Index>(pinched.size());
+}
+
+Index drop_unreferenced(TriangleMesh& m) {
+  std::vector<Index> remap(m.positions.size(), kInvalid);
+  std::vector<Vec3> kept;
+  for (Tri& t : m.triangles)
+    for (Index& v : t) {
+      if (remap[v] == kInvalid) {
+        remap[v] = static_cast<Index>(kept.size());
+        kept.push_back(m.positions[v]);
+      }
+      v = remap[v];
+    }
+  const Index dropped = m.num_vertices() - static_cast<Index>(kept.size());
+  m.positions.swap(kept);
+  return dropped;
+}
+
+}  // namespace
+
+SanitizedMesh sanitize_mesh(const TriangleMesh& raw, double debris_fraction) {
+  check_input(raw);
+  SanitizedMesh out;
+  auto& warn = out.warnings;
+  TriangleMesh m = weld_coincident(raw);
+
+  Index duplicates = 0;
+  if (Index n = remove_repeated_and_duplicates(m, duplicates))
+    warn.push_back("removed " + plural(n, "degenerate triangle", "degenerate triangles") + " with a repeated vertex");
+  if (duplicates) warn.push_back("removed " + plural(duplicates, "duplicate triangle", "duplicate triangles"));
+  if (Index n = repair_zero_area(m))
+    warn.push_back("repaired " + plural(n, "zero-area triangle", "zero-area triangles") + " by edge flips");
+  if (m.triangles.empty()) throw InputError("the mesh holds no triangles with area");
+
+  MeshTopology topo = MeshTopology::build(m);  // throws on non-manifold edges
+  if (Index n = split_pinched_vertices(m, topo)) {
+    warn.push_back("split " + plural(n, "non-manifold (pinched) vertex", "non-manifold (pinched) vertices"));
+    topo = MeshTopology::build(m);
+  }
+  if (Index n = orient_consistently(m, topo))
+    warn.push_back("flipped " + plural(n, "inconsistently oriented triangle", "inconsistently oriented triangles"));
+
+  // Components: orient closed ones outward, drop debris.
+  std::vector<Index> comp;
+  const Index nc = triangle_components(topo, m.num_triangles(), comp);
+  std::vector<double> area(nc, 0.0), volume(nc, 0.0);
+  std::vector<bool> closed(nc, true);
+  for (Index t = 0; t < m.num_triangles(); ++t) {
+    const Tri& f = m.triangles[t];
+    area[comp[t]] += 0.5 * triangle_normal_area2(m, t).norm();
+    volume[comp[t]] += m.positions[f[0]].dot(m.positions[f[1]].cross(m.positions[f[2]])) / 6.0;
+  }
+  for (Index e = 0; e < topo.num_edges(); ++e)
+    if (topo.is_boundary_edge(e)) closed[comp[topo.edge_triangles[e][0]]] = false;
+  double total_area = 0;
+  for (double a : area) total_area += a;
+  Index debris = 0, inward = 0;
+  std::vector<Tri> kept;
+  std::vector<bool> keep(nc);
+  for (Index c = 0; c < nc; ++c) {
+    keep[c] = area[c] >= debris_fraction * total_area;
+    if (!keep[c]) ++debris;
+    if (keep[c] && closed[c] && volume[c] < 0) ++inward;
+  }
+  for (Index t = 0; t < m.num_triangles(); ++t) {
+    const Index c = comp[t];
+    if (!keep[c]) continue;
+    Tri f = m.triangles[t];
+    if (closed[c] && volume[c] < 0) std::swap(f[1], f[2]);
+    kept.push_back(f);
+  }
+  m.triangles.swap(kept);
+  if (debris) warn.push_back("dropped " + plural(debris, "tiny disconnected piece", "tiny disconnected pieces"));
+  if (inward) warn.push_back("turned " + plural(inward, "inside-out component", "inside-out components") + " outward");
+  if (nc - debris > 1)
+    warn.push_back("the surface has " + std::to_string(nc - debris) + " separate components; each is kept");
+  if (Index n = drop_unreferenced(m))
+    warn.push_back("dropped " + plural(n, "unreferenced vertex", "unreferenced vertices"));
+  out.mesh = std::move(m);
+  return out;
+}
+
+}  // namespace stripweave
