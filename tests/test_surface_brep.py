@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import stripweave as sw
-from conftest import (box, cylinder, filleted_box, is_watertight_manifold, lofted_face, open_cylinder_shell, sphere,
+from models import (box, cylinder, filleted_box, is_watertight_manifold, lofted_face, open_cylinder_shell, sphere,
                       torus)
 
 

@@ -94,10 +94,13 @@ std::vector<Vec3> area_weighted_normals(const TriangleMesh& mesh) {
 // connects to the centre comes out before any vertex outside it, so "take all
 // within the radius, then the nearest ones beyond until there are enough" is
 // the ring growth the contract asks for, without the bias of whole rings.
+// Growth stops at vertices facing away from the centre (normals more than 90
+// degrees apart): on a part thinner than the radius the walk would otherwise
+// turn round the rim onto the other side, which no height function can fit.
 class NeighbourhoodGrower {
  public:
-  NeighbourhoodGrower(const TriangleMesh& mesh, const Adjacency& adj)
-      : mesh_(mesh), adj_(adj), stamp_(mesh.positions.size(), 0) {}
+  NeighbourhoodGrower(const TriangleMesh& mesh, const Adjacency& adj, const std::vector<Vec3>& normals)
+      : mesh_(mesh), adj_(adj), normals_(normals), stamp_(mesh.positions.size(), 0) {}
 
   // Fills `out` with the centre first (the jet's origin is its first point).
   void gather(Index centre, double radius, std::size_t min_count, std::vector<Index>& out) {
@@ -105,6 +108,8 @@ class NeighbourhoodGrower {
     ++epoch_;
     heap_ = Heap();
     const Vec3& c = mesh_.positions[centre];
+    const Vec3& nc = normals_[centre];
+    const bool oriented = nc.squaredNorm() > 0.0;
     const double r2 = radius * radius;
     stamp_[centre] = epoch_;
     heap_.emplace(0.0, centre);
@@ -117,6 +122,7 @@ class NeighbourhoodGrower {
         const Index w = adj_.neighbour[k];
         if (stamp_[w] == epoch_) continue;
         stamp_[w] = epoch_;
+        if (oriented && normals_[w].dot(nc) <= 0.0) continue;
         heap_.emplace((mesh_.positions[w] - c).squaredNorm(), w);
       }
     }
@@ -127,6 +133,7 @@ class NeighbourhoodGrower {
   using Heap = std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>>;
   const TriangleMesh& mesh_;
   const Adjacency& adj_;
+  const std::vector<Vec3>& normals_;  // area-weighted, not normalised
   std::vector<unsigned> stamp_;  // visited marks without clearing per vertex
   unsigned epoch_ = 0;
   Heap heap_;
@@ -201,28 +208,37 @@ CurvatureField jet_fit_curvature(const TriangleMesh& mesh, double radius, int mi
 
   const Adjacency adj = build_adjacency(mesh);
   const std::vector<Vec3> mesh_normal = area_weighted_normals(mesh);
-  NeighbourhoodGrower grower(mesh, adj);
+  NeighbourhoodGrower grower(mesh, adj, mesh_normal);
   Fitter fitter;
   std::vector<Index> ids;
   std::vector<Point> pts;
   const std::size_t base_count = std::max<std::size_t>(kMinFitPoints, min_neighbours > 0 ? min_neighbours : 0);
   const double base_radius = std::isfinite(radius) && radius > 0.0 ? radius : 0.0;
 
+  // A failed fit is retried on larger neighbourhoods, where degeneracies
+  // (collinear rings, too few points) go away; then on the tightest one a
+  // quadric allows, for a fold or tip that only looks like a height function
+  // from very close.
+  struct Neighbourhood {
+    double radius;
+    std::size_t count;
+  };
+  const Neighbourhood attempts[] = {{base_radius, base_count},
+                                    {2.0 * base_radius, 2 * base_count},
+                                    {4.0 * base_radius, 4 * base_count},
+                                    {0.0, kMinFitPoints + 4}};
+
   for (Index v = 0; v < nv; ++v) {
     LocalCurvature c;
     bool ok = false;
-    // A failed fit is retried on a larger neighbourhood: degeneracies
-    // (collinear rings, too few points) go away as the patch grows.
-    for (int attempt = 0; attempt < 3 && !ok; ++attempt) {
-      const double scale = double(1 << attempt);
-      grower.gather(v, base_radius * scale, base_count * (1u << attempt), ids);
+    for (const Neighbourhood& hood : attempts) {
+      grower.gather(v, hood.radius, hood.count, ids);
       pts.clear();
       for (Index u : ids) {
         const Vec3& p = mesh.positions[u];
         pts.emplace_back(p.x(), p.y(), p.z());
       }
-      ok = fit(fitter, pts, mesh_normal[v], c);
-      if (ids.size() < base_count * (1u << attempt)) break;  // the component is exhausted
+      if ((ok = fit(fitter, pts, mesh_normal[v], c))) break;
     }
     if (!ok) c = flat_frame(mesh_normal[v]);
     field.normal[v] = c.normal;

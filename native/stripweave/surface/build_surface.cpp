@@ -317,7 +317,7 @@ Surface surface_from_mesh(const TriangleMesh& raw, const SurfaceOptions& opt, Pr
   double mean_edge = 0;
   for (const EdgeKey& e : s.topology.edges) mean_edge += (s.mesh.positions[e[0]] - s.mesh.positions[e[1]]).norm();
   mean_edge /= std::max<Index>(1, s.topology.num_edges());
-  const double radius = opt.curvature_radius > 0 ? opt.curvature_radius : std::max(0.015, 3.0 * mean_edge);
+  const double radius = opt.curvature_radius > 0 ? opt.curvature_radius : std::max(0.015, 2.0 * mean_edge);
   CurvatureField field = jet_fit_curvature(s.mesh, radius);
   s.normal = std::move(field.normal);
   s.k_min = std::move(field.k_min);

@@ -31,7 +31,8 @@ struct SurfaceOptions {
   // diagonal) are noise and dropped.
   double min_feature_length = 0.02;
   // Mesh input: jet-fitting radius as a fraction of the diagonal; 0 picks
-  // max(0.015, 3 mean edge lengths).
+  // max(0.015, 2 mean edge lengths): scaled to the model, so scan noise does
+  // not swamp the directions, yet never fewer than about two rings.
   double curvature_radius = 0.0;
   int remesh_iterations = 3;
 };

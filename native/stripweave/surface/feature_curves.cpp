@@ -1,6 +1,7 @@
 #include "stripweave/surface/feature_curves.h"
 
 #include <cmath>
+#include <numeric>
 
 namespace stripweave {
 
@@ -75,24 +76,37 @@ std::vector<FeatureCurve> chain_feature_curves(const TriangleMesh& mesh, const M
   for (Index e = 0; e < topo.num_edges(); ++e)
     if (classes[e] == EdgeClass::Feature && !used[e]) trace(topo.edges[e][0], e);
 
-  // Drop short isolated chains: an end that no other chain shares marks a
-  // chain that does not belong to a larger crease network.
-  std::vector<Index> chains_at(nv, 0);
-  for (const auto& c : chains)
-    if (!c.closed) ++chains_at[c.vertices.front()], ++chains_at[c.vertices.back()];
+  // Drop short crease clusters: chains joined at their ends form a cluster
+  // (a crease network); one whose total length is under min_length is scan
+  // noise (a spike, a scratch), not a feature of the part.
+  std::vector<Index> cluster(chains.size());
+  std::iota(cluster.begin(), cluster.end(), 0);
+  auto root = [&](Index c) {
+    while (cluster[c] != c) c = cluster[c] = cluster[cluster[c]];
+    return c;
+  };
+  std::vector<Index> chain_at(nv, kInvalid);
+  for (size_t i = 0; i < chains.size(); ++i)
+    for (Index v : {chains[i].vertices.front(), chains[i].vertices.back()}) {
+      if (chain_at[v] == kInvalid)
+        chain_at[v] = static_cast<Index>(i);
+      else
+        cluster[root(static_cast<Index>(i))] = root(chain_at[v]);
+    }
+  std::vector<double> cluster_length(chains.size(), 0.0);
+  for (size_t i = 0; i < chains.size(); ++i)
+    for (Index e : chain_edges[i])
+      cluster_length[root(static_cast<Index>(i))] +=
+          (mesh.positions[topo.edges[e][0]] - mesh.positions[topo.edges[e][1]]).norm();
   std::vector<FeatureCurve> curves;
   edge_curve.assign(topo.num_edges(), kInvalid);
   for (size_t i = 0; i < chains.size(); ++i) {
-    const auto& c = chains[i];
-    double length = 0;
-    for (Index e : chain_edges[i]) length += (mesh.positions[topo.edges[e][0]] - mesh.positions[topo.edges[e][1]]).norm();
-    const bool isolated = c.closed || (chains_at[c.vertices.front()] == 1 && chains_at[c.vertices.back()] == 1);
-    if (length < min_length && isolated) {
+    if (cluster_length[root(static_cast<Index>(i))] < min_length) {
       for (Index e : chain_edges[i]) classes[e] = EdgeClass::Regular;
       continue;
     }
     for (Index e : chain_edges[i]) edge_curve[e] = static_cast<Index>(curves.size());
-    curves.push_back(c);
+    curves.push_back(chains[i]);
   }
   return curves;
 }

@@ -8,9 +8,9 @@
 //   Chains the Feature edges into curves. A chain ends where the number of
 //   feature edges at a vertex is not two (a corner or an end), or at a vertex
 //   with break_vertex[v] (e.g. a B-rep vertex where one CAD edge meets the
-//   next). Chains shorter than min_length (in the mesh's units) that touch no
-//   other feature curve are spurious on scans and are dropped: their edges
-//   become Regular. Returns the curves and fills edge_curve (curve id or
+//   next). Chains joined at their ends form a crease cluster; a cluster
+//   shorter in total than min_length (in the mesh's units) is scan noise (a
+//   spike, a scratch) and is dropped: its edges become Regular. Returns the curves and fills edge_curve (curve id or
 //   kInvalid per edge).
 //
 // dihedral_feature_edges(mesh, topo, angle_deg) -> per-edge flag

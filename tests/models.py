@@ -1,0 +1,70 @@
+"""Models generated with FreeCAD/OCCT for the tests, and geometric checks on surfaces."""
+import math
+
+import numpy as np
+
+import FreeCAD  # noqa: F401  (loads Part's dependencies)
+import Part
+from FreeCAD import Vector
+
+
+# --- generated models (FreeCAD Part shapes) ---------------------------------
+
+def box(size=10.0):
+    return Part.makeBox(size, size, size)
+
+
+def cylinder(r=5.0, h=20.0):
+    return Part.makeCylinder(r, h)
+
+
+def torus(R=10.0, r=3.0):
+    return Part.makeTorus(R, r)
+
+
+def sphere(R=5.0):
+    return Part.makeSphere(R)
+
+
+def filleted_box(size=10.0, radius=2.0):
+    b = Part.makeBox(size, size, size)
+    return b.makeFillet(radius, b.Edges)
+
+
+def open_cylinder_shell(r=5.0, h=20.0):
+    """The lateral face of a cylinder alone: an open shell with two boundary circles."""
+    return Part.Shell([Part.makeCylinder(r, h).Faces[0]])
+
+
+def lofted_face():
+    """A freeform B-spline face lofted through three wavy curves (an open surface)."""
+    def wavy(y, amp, phase):
+        pts = [Vector(x, y, amp * math.sin(0.5 * x + phase)) for x in np.linspace(0, 20, 9)]
+        c = Part.BSplineCurve()
+        c.interpolate(pts)
+        return Part.Wire(c.toShape())
+    return Part.makeLoft([wavy(0, 2.0, 0.0), wavy(8, 3.0, 1.0), wavy(16, 1.5, 2.0)], False, False)
+
+
+# --- helpers ------------------------------------------------------------------
+
+def edge_use_counts(triangles):
+    """How many triangles use each undirected edge."""
+    t = np.asarray(triangles)
+    e = np.sort(np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), axis=1)
+    _, counts = np.unique(e, axis=0, return_counts=True)
+    return counts
+
+
+def is_watertight_manifold(surface):
+    """Every edge has exactly two triangles, and every vertex's triangles form one fan."""
+    t = surface.triangles
+    if not np.all(edge_use_counts(t) == 2):
+        return False
+    # One fan per vertex: on a closed manifold, the link of a vertex is a single cycle,
+    # so its triangle count equals its neighbour count.
+    n = len(surface.vertices)
+    tri_count = np.bincount(t.ravel(), minlength=n)
+    edges = np.unique(np.sort(np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), axis=1), axis=0)
+    nbr_count = np.bincount(edges.ravel(), minlength=n)
+    return bool(np.all(tri_count == nbr_count))
