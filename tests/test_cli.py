@@ -1,0 +1,84 @@
+"""The `stripweave` launcher and its JSON contracts (design.md)."""
+import json
+import os
+import subprocess
+
+import pytest
+
+from conftest import BUILD
+from models import box, torus
+
+LAUNCHER = os.path.join(BUILD, "stripweave")
+INFO_KEYS = {"vertices", "triangles", "components", "genus", "boundary_loops", "feature_curves", "feature_edges",
+             "brep_faces", "bbox_diagonal"}
+
+
+def run(*args):
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}  # the launcher sets its own
+    return subprocess.run([LAUNCHER, *args], capture_output=True, text=True, env=env, timeout=300)
+
+
+@pytest.fixture(scope="module")
+def torus_step(tmp_path_factory):
+    path = str(tmp_path_factory.mktemp("models") / "torus.step")
+    torus(10, 3).exportStep(path)
+    return path
+
+
+def test_info_json_has_the_contract_keys(torus_step):
+    p = run("info", torus_step, "--json", "--target-triangles", "5000")
+    assert p.returncode == 0, p.stderr
+    info = json.loads(p.stdout)
+    assert INFO_KEYS <= set(info)
+    assert info["genus"] == 1 and info["feature_curves"] == 0 and info["brep_faces"] == 1
+    assert info["bbox_diagonal"] == pytest.approx((26 ** 2 * 2 + 6 ** 2) ** 0.5, rel=1e-3)
+
+
+def test_info_text(tmp_path):
+    path = str(tmp_path / "box.brep")
+    box(10).exportBrep(path)
+    p = run("info", path, "--target-triangles", "2000")
+    assert p.returncode == 0, p.stderr
+    assert "12 curve(s)" in p.stdout and "genus 0" in p.stdout
+
+
+def test_info_on_a_mesh_file_and_an_fcstd(tmp_path):
+    import FreeCAD
+    import Mesh
+    mesh_path = str(tmp_path / "box.stl")
+    Mesh.Mesh(box(10).tessellate(0.01)).write(mesh_path)
+    p = run("info", mesh_path, "--json", "--target-triangles", "3000")
+    assert p.returncode == 0, p.stderr
+    assert json.loads(p.stdout)["feature_curves"] == 12
+
+    doc = FreeCAD.newDocument("clitest")
+    doc.addObject("Part::Box", "Box")
+    doc.recompute()
+    fcstd = str(tmp_path / "box.FCStd")
+    doc.saveAs(fcstd)
+    FreeCAD.closeDocument(doc.Name)
+    p = run("info", fcstd, "--json", "--target-triangles", "2000")
+    assert p.returncode == 0, p.stderr
+    assert json.loads(p.stdout)["brep_faces"] == 6
+
+
+def test_bad_input_gives_one_line_error_and_nonzero_exit(tmp_path):
+    bad = tmp_path / "bad.step"
+    bad.write_text("not a step file\n")
+    p = run("info", str(bad))
+    assert p.returncode != 0
+    lines = p.stderr.strip().splitlines()
+    assert len(lines) == 1 and "not a valid STEP file" in lines[0]
+    p = run("info", str(tmp_path / "nothing.obj"))
+    assert p.returncode != 0 and "does not exist" in p.stderr
+
+
+def test_bench_json(torus_step):
+    p = run("bench", torus_step, "--repeat", "2", "--target-triangles", "5000")
+    assert p.returncode == 0, p.stderr
+    bench = json.loads(p.stdout)
+    assert bench["triangles"] > 3000 and bench["input_triangles"] > 0
+    stages = bench["surface_ms"]
+    for stage in ("read", "tessellate", "remesh", "curvature", "total"):
+        assert stages[stage]["median"] >= 0 and stages[stage]["p95"] >= stages[stage]["median"]
+        assert stages[stage]["runs"] == 2
