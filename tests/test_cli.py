@@ -5,10 +5,10 @@ import subprocess
 
 import pytest
 
-from conftest import BUILD
 from models import box, torus
 
-LAUNCHER = os.path.join(BUILD, "stripweave")
+REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+LAUNCHER = os.path.join(os.environ.get("STRIPWEAVE_BUILD", os.path.join(REPO, "build")), "stripweave")
 INFO_KEYS = {"vertices", "triangles", "components", "genus", "boundary_loops", "feature_curves", "feature_edges",
              "brep_faces", "bbox_diagonal"}
 
