@@ -68,3 +68,15 @@ def is_watertight_manifold(surface):
     edges = np.unique(np.sort(np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), axis=1), axis=0)
     nbr_count = np.bincount(edges.ravel(), minlength=n)
     return bool(np.all(tri_count == nbr_count))
+
+
+def capped_cylinder(r=5.0, h=20.0):
+    return Part.makeCylinder(r, h)
+
+
+def winding_numbers(points, R=10.0):
+    """(around the torus axis, around the tube) of a closed polyline on a torus centred at the origin."""
+    p = np.asarray(points)
+    theta = np.unwrap(np.arctan2(p[:, 1], p[:, 0]))
+    phi = np.unwrap(np.arctan2(p[:, 2], np.hypot(p[:, 0], p[:, 1]) - R))
+    return round((theta[-1] - theta[0]) / (2 * np.pi)), round((phi[-1] - phi[0]) / (2 * np.pi))

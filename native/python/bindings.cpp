@@ -7,6 +7,7 @@
 //     freeze the GUI; they poll an optional Progress for cancellation.
 //   - stripweave::InputError becomes _stripweave.InputError (a ValueError),
 //     Cancelled becomes _stripweave.Cancelled.
+#include "bind.h"
 #include "stripweave/cgal/mesh_io.h"
 #include "stripweave/core/error.h"
 #include "stripweave/core/progress.h"
@@ -226,4 +227,6 @@ PYBIND11_MODULE(_stripweave, m) {
         py::gil_scoped_release release;
         write_mesh_file(path, mesh);
       }, py::arg("path"), py::arg("vertices"), py::arg("triangles"));
+
+  stripweave_python::bind_loops(m);
 }

@@ -7,6 +7,8 @@ Later stages (graph, loops, strips, layout, refit) add their own sections.
 import os
 import statistics
 
+import numpy as np
+
 from .surface import load
 
 
@@ -49,6 +51,39 @@ def bench_surface(path, repeat=3, **options):
     }
 
 
-def run_bench(path, repeat=3, **options):
-    _, result = bench_surface(path, repeat=repeat, **options)
+def random_surface_points(surface, count, seed=1):
+    """Points spread over the surface by area (a fixed seed: runs are comparable)."""
+    rng = np.random.default_rng(seed)
+    v, t = surface.vertices, surface.triangles
+    area = 0.5 * np.linalg.norm(np.cross(v[t[:, 1]] - v[t[:, 0]], v[t[:, 2]] - v[t[:, 0]]), axis=1)
+    tri = rng.choice(len(t), size=count, p=area / area.sum())
+    r1, r2 = rng.random(count), rng.random(count)
+    s = np.sqrt(r1)
+    w = np.stack([1 - s, s * (1 - r2), s * r2], axis=1)
+    return np.einsum("ij,ijk->ik", w, v[t[tri]])
+
+
+def bench_loops(surface, hover_points=50, anchor_pairs=20, boundary="aligned"):
+    """Graph build, hover (best loop over all directions) and two-anchor loops."""
+    from .loops import LoopSession, timed
+    session = LoopSession(surface, boundary=boundary)
+    result = dict(session.stats())
+    hover = []
+    for p in random_surface_points(surface, hover_points, seed=1):
+        _, ms = timed(session.best_loop, p)
+        hover.append(ms)
+    result["hover_ms"] = summary(hover)
+    pairs = random_surface_points(surface, 2 * anchor_pairs, seed=2).reshape(anchor_pairs, 2, 3)
+    two = []
+    for a, b in pairs:
+        _, ms = timed(session.native.loops, [list(a), list(b)], 1, True)
+        two.append(ms)
+    result["two_anchor_ms"] = summary(two)
+    return result
+
+
+def run_bench(path, repeat=3, loops=True, **options):
+    surface, result = bench_surface(path, repeat=repeat, **options)
+    if loops:
+        result.update(bench_loops(surface))
     return result

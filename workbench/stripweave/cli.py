@@ -1,6 +1,8 @@
 """The `stripweave` command line (run it as build/stripweave).
 
     stripweave info MODEL [--json]       the surface report
+    stripweave loop MODEL --anchor X,Y,Z[,DX,DY,DZ] [--anchor ...] [--alternatives K]
+                    [--boundary aligned|trimmed] [--json]   elastica loops through anchors
     stripweave bench MODEL [--repeat N]  stage timings and sizes, JSON
 
 MODEL is STEP/STP, IGES/IGS, BREP/BRP, STL, OBJ, OFF, PLY, or an FCStd with
@@ -38,9 +40,31 @@ def cmd_info(args):
     return 0
 
 
+def cmd_loop(args):
+    from .loops import LoopSession, parse_anchor, timed
+    from .surface import load
+    anchors = [parse_anchor(a) for a in args.anchor]
+    surface = load(args.model, **_surface_options(args))
+    session = LoopSession(surface, boundary=args.boundary)
+    loops, ms = timed(session.loops, anchors, alternatives=args.alternatives)
+    keys = ("cost", "length", "closed", "points", "max_turn_deg", "length_term", "alignment_term", "curvature_term")
+    if args.json:
+        print(json.dumps({"loops": [{k: loop[k] for k in keys} for loop in loops], "time_ms": ms}))
+    else:
+        for i, loop in enumerate(loops):
+            kind = "loop" if loop["closed"] else "open curve"
+            print(f"{i + 1}. {kind}: length {loop['length']:.6g}, cost {loop['cost']:.4g} "
+                  f"(length {loop['length_term']:.4g}, alignment {loop['alignment_term']:.4g}, "
+                  f"curvature {loop['curvature_term']:.4g}), max turn {loop['max_turn_deg']:.1f} deg, "
+                  f"{len(loop['points'])} points")
+        print(f"search took {ms:.1f} ms (graph built in {session.stats()['graph_build_s']:.2f} s)")
+    return 0
+
+
 def cmd_bench(args):
     from .bench import run_bench
-    print(json.dumps(run_bench(args.model, repeat=args.repeat, **_surface_options(args)), indent=2))
+    print(json.dumps(run_bench(args.model, repeat=args.repeat, loops=not args.surface_only,
+                               **_surface_options(args)), indent=2))
     return 0
 
 
@@ -54,10 +78,22 @@ def build_parser():
     _add_surface_options(p)
     p.set_defaults(run=cmd_info)
 
+    p = sub.add_parser("loop", help="elastica loops through anchors (paper §5)")
+    p.add_argument("model")
+    p.add_argument("--anchor", action="append", required=True, metavar="X,Y,Z[,DX,DY,DZ]",
+                   help="a point the loop passes, optionally with its tangent; repeat for more, in order")
+    p.add_argument("--alternatives", type=int, default=1, help="how many distinct loops to list")
+    p.add_argument("--boundary", choices=("aligned", "trimmed"), default="aligned",
+                   help="dual curves meet open boundaries orthogonally (aligned) or at any angle (trimmed)")
+    p.add_argument("--json", action="store_true", help="machine-readable output")
+    _add_surface_options(p)
+    p.set_defaults(run=cmd_loop)
+
     p = sub.add_parser("bench", help="time every pipeline stage (JSON)")
     p.add_argument("model")
     p.add_argument("--repeat", type=int, default=3, help="runs per stage (median and p95 are reported)")
     p.add_argument("--json", action="store_true", help="accepted for symmetry: bench always prints JSON")
+    p.add_argument("--surface-only", action="store_true", help="time the surface stage alone")
     _add_surface_options(p)
     p.set_defaults(run=cmd_bench)
     return parser

@@ -1,0 +1,151 @@
+// Bindings of the loop stage (paper §5): LoopSession and Loop.
+//
+// Points cross in MODEL units; the session works on the normalized surface.
+// Queries release the GIL; a newer query cancels an older one (Cancelled).
+#include "bind.h"
+
+#include "stripweave/core/error.h"
+#include "stripweave/elastica/loop_session.h"
+
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+namespace py = pybind11;
+using namespace stripweave;
+
+namespace stripweave_python {
+
+namespace {
+
+Vec3 vec3(const std::vector<double>& v, const char* what) {
+  if (v.size() != 3) throw InputError(std::string(what) + " needs three coordinates");
+  return {v[0], v[1], v[2]};
+}
+
+// An anchor as (x, y, z) or (x, y, z, dx, dy, dz), model units.
+Anchor anchor_from(const Surface& s, const std::vector<double>& a) {
+  if (a.size() != 3 && a.size() != 6) throw InputError("an anchor is X,Y,Z or X,Y,Z,DX,DY,DZ");
+  for (double x : a)
+    if (!std::isfinite(x)) throw InputError("an anchor has a NaN or infinite coordinate");
+  Anchor anchor;
+  anchor.point = s.similarity.to_normalized(Vec3(a[0], a[1], a[2]));
+  if (a.size() == 6) {
+    anchor.direction = Vec3(a[3], a[4], a[5]);
+    if (anchor.direction.norm() == 0) throw InputError("an anchor direction must not be zero");
+    anchor.direction.normalize();
+  }
+  return anchor;
+}
+
+py::dict path_dict(const Surface& s, const SurfacePath& p) {
+  py::array_t<double> points({static_cast<py::ssize_t>(p.points.size()), py::ssize_t(3)});
+  auto pts = points.mutable_unchecked<2>();
+  double length = 0;
+  for (size_t i = 0; i < p.points.size(); ++i) {
+    const Vec3 q = s.similarity.to_model(p.points[i]);
+    for (int j = 0; j < 3; ++j) pts(i, j) = q[j];
+    if (i > 0) length += (p.points[i] - p.points[i - 1]).norm() * s.similarity.scale;
+  }
+  py::dict d;
+  d["points"] = points;
+  d["vertex"] = p.vertex;
+  d["edge"] = p.edge;
+  d["t"] = p.t;
+  d["node_start"] = p.node_start;
+  d["length"] = length;
+  return d;
+}
+
+}  // namespace
+
+void bind_loops(py::module_& m) {
+  py::enum_<BoundaryMode>(m, "BoundaryMode")
+      .value("aligned", BoundaryMode::Aligned)
+      .value("trimmed", BoundaryMode::Trimmed);
+  py::enum_<SearchAlgorithm>(m, "SearchAlgorithm")
+      .value("dijkstra", SearchAlgorithm::Dijkstra)
+      .value("astar", SearchAlgorithm::AStar)
+      .value("bidirectional", SearchAlgorithm::Bidirectional);
+
+  py::class_<ElasticaParams>(m, "ElasticaParams")
+      .def(py::init<>())
+      .def_readwrite("k", &ElasticaParams::k)
+      .def_readwrite("max_turn_deg", &ElasticaParams::max_turn_deg)
+      .def_readwrite("alpha", &ElasticaParams::alpha)
+      .def_readwrite("beta", &ElasticaParams::beta)
+      .def_readwrite("boundary", &ElasticaParams::boundary)
+      .def_readwrite("feature_weight", &ElasticaParams::feature_weight);
+
+  py::class_<Loop>(m, "Loop", "A dual loop (closed) or dual curve (open): a chain of g' nodes")
+      .def_property_readonly("nodes", [](const Loop& l) { return l.nodes; })
+      .def_readonly("closed", &Loop::closed)
+      .def_readonly("cost", &Loop::cost)
+      .def_readonly("length_term", &Loop::length_term)
+      .def_readonly("alignment_term", &Loop::alignment_term)
+      .def_readonly("curvature_term", &Loop::curvature_term)
+      .def_property_readonly("max_turn_deg", [](const Loop& l) { return l.max_turn * 180.0 / M_PI; });
+
+  py::class_<LoopSession, std::shared_ptr<LoopSession>>(m, "LoopSession",
+                                                        "The elastica graph of a surface and its loop queries")
+      .def(py::init([](std::shared_ptr<Surface> surface, const ElasticaParams& params, Progress* progress) {
+             py::gil_scoped_release release;
+             return std::make_shared<LoopSession>(surface, params, progress);
+           }),
+           py::arg("surface"), py::arg("params") = ElasticaParams(), py::arg("progress") = nullptr)
+      .def_property_readonly("build_ms", &LoopSession::build_ms)
+      .def_property("algorithm", [](const LoopSession& s) { return s.algorithm; },
+                    [](LoopSession& s, SearchAlgorithm a) { s.algorithm = a; })
+      .def_property("max_anchor_distance",
+                    [](const LoopSession& s) { return s.max_anchor_distance * s.surface().similarity.scale; },
+                    [](LoopSession& s, double d) { s.max_anchor_distance = d / s.surface().similarity.scale; },
+                    "anchors farther than this from the surface are an error (model units)")
+      .def("graph_stats", [](const LoopSession& s) {
+        const ElasticaGraph& g = s.graph();
+        py::dict d;
+        d["g_nodes"] = s.surface().mesh.num_vertices();
+        d["gprime_nodes"] = g.num_nodes();
+        d["gprime_edges"] = g.num_arcs();
+        d["graph_mb"] = g.memory_bytes() / (1024.0 * 1024.0);
+        d["graph_build_s"] = s.build_ms() / 1000.0;
+        return d;
+      })
+      .def("loops", [](LoopSession& s, const std::vector<std::vector<double>>& anchors, int count, bool allow_open) {
+             std::vector<Anchor> parsed;
+             for (const auto& a : anchors) parsed.push_back(anchor_from(s.surface(), a));
+             py::gil_scoped_release release;
+             return s.loops(parsed, count, allow_open);
+           },
+           py::arg("anchors"), py::arg("count") = 1, py::arg("allow_open") = true,
+           "Up to `count` distinct loops through the anchors (model units), cheapest first")
+      .def("best_loop", [](LoopSession& s, const std::vector<double>& point, bool allow_open) {
+             const Anchor a = anchor_from(s.surface(), point);
+             py::gil_scoped_release release;
+             return s.best_loop(a.point, allow_open);
+           },
+           py::arg("point"), py::arg("allow_open") = true, "Hover: the best loop through a point, all directions")
+      .def("embed", [](const LoopSession& s, const Loop& loop) {
+             SurfacePath p;
+             {
+               py::gil_scoped_release release;
+               p = s.embed(loop);
+             }
+             return path_dict(s.surface(), p);
+           },
+           "The loop on the surface: points (model units), per point its mesh vertex or mesh edge and parameter")
+      .def("anchor_candidates", [](LoopSession& s, const std::vector<double>& a) {
+        const ResolvedAnchor r = s.resolve(anchor_from(s.surface(), a));
+        return py::make_tuple(r.vertex, r.candidates);
+      })
+      .def("node_tangent", [](const LoopSession& s, Index node) {
+        const Vec3 t = s.graph().tangent(s.surface(), node);
+        return std::vector<double>{t.x(), t.y(), t.z()};
+      })
+      .def("node_vertices", [](const LoopSession& s, Index node) {
+        return py::make_tuple(s.graph().tail.at(node), s.graph().head.at(node));
+      })
+      .def("set_disabled", &LoopSession::set_disabled, py::arg("nodes"), py::arg("disabled") = true)
+      .def("clear_disabled", &LoopSession::clear_disabled)
+      .def("cancel", &LoopSession::cancel);
+}
+
+}  // namespace stripweave_python

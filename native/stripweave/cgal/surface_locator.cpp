@@ -1,0 +1,59 @@
+#include "stripweave/cgal/surface_locator.h"
+
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+
+namespace stripweave {
+
+namespace {
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = Kernel::Point_3;
+using Triangle = Kernel::Triangle_3;
+using TriangleIterator = std::vector<Triangle>::const_iterator;
+using Primitive = CGAL::AABB_triangle_primitive<Kernel, TriangleIterator>;
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+
+Point to_point(const Vec3& p) { return Point(p.x(), p.y(), p.z()); }
+}  // namespace
+
+struct SurfaceLocator::Impl {
+  const TriangleMesh& mesh;
+  std::vector<Triangle> triangles;  // the tree refers to these by iterator
+  Tree tree;
+  explicit Impl(const TriangleMesh& m) : mesh(m) {
+    triangles.reserve(m.triangles.size());
+    for (const Tri& t : m.triangles)
+      triangles.emplace_back(to_point(m.positions[t[0]]), to_point(m.positions[t[1]]), to_point(m.positions[t[2]]));
+    tree.insert(triangles.begin(), triangles.end());
+    tree.accelerate_distance_queries();
+  }
+};
+
+SurfaceLocator::SurfaceLocator(const TriangleMesh& mesh) : impl_(std::make_unique<Impl>(mesh)) {}
+SurfaceLocator::~SurfaceLocator() = default;
+
+SurfacePoint3 SurfaceLocator::closest(const Vec3& p) const {
+  const auto [q, primitive] = impl_->tree.closest_point_and_primitive(to_point(p));
+  SurfacePoint3 out;
+  out.point = Vec3(q.x(), q.y(), q.z());
+  out.triangle = static_cast<Index>(primitive - impl_->triangles.cbegin());
+  out.distance = (out.point - p).norm();
+  // Barycentric coordinates of q in its triangle (for picking a vertex and
+  // for interpolating per-vertex data).
+  const Tri& t = impl_->mesh.triangles[out.triangle];
+  const Vec3 a = impl_->mesh.positions[t[0]], b = impl_->mesh.positions[t[1]], c = impl_->mesh.positions[t[2]];
+  const Vec3 n = (b - a).cross(c - a);
+  const double area2 = n.squaredNorm();
+  if (area2 > 0) {
+    const double u = (c - b).cross(out.point - b).dot(n) / area2;
+    const double v = (a - c).cross(out.point - c).dot(n) / area2;
+    out.barycentric = Vec3(u, v, 1 - u - v);
+  } else {
+    out.barycentric = Vec3(1, 0, 0);
+  }
+  return out;
+}
+
+}  // namespace stripweave

@@ -1,0 +1,34 @@
+// SurfaceLocator: nearest points on a triangle mesh (CGAL AABB tree adapter).
+//
+// Built once per mesh; answers closest-point queries in O(log n). Used to
+// project anchors onto the surface (§5.4) and, later, to pick under the
+// cursor.
+//   closest(p) -> {point on the mesh, triangle id, barycentric coordinates,
+//                 distance}
+#pragma once
+
+#include "stripweave/surface/triangle_mesh.h"
+
+#include <memory>
+
+namespace stripweave {
+
+struct SurfacePoint3 {
+  Vec3 point = Vec3::Zero();
+  Index triangle = kInvalid;
+  Vec3 barycentric = Vec3::Zero();
+  double distance = 0;
+};
+
+class SurfaceLocator {
+ public:
+  explicit SurfaceLocator(const TriangleMesh& mesh);
+  ~SurfaceLocator();
+  SurfacePoint3 closest(const Vec3& p) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace stripweave

@@ -1,0 +1,355 @@
+#include "stripweave/elastica/loop_search.h"
+
+#include "stripweave/cgal/surface_locator.h"
+#include "stripweave/core/error.h"
+#include "stripweave/elastica/shortest_paths.h"
+
+#include <algorithm>
+#include <cmath>
+#include <queue>
+#include <sstream>
+
+namespace stripweave {
+
+namespace {
+
+std::string model_point(const Surface& s, const Vec3& p) {
+  const Vec3 q = s.similarity.to_model(p);
+  std::ostringstream out;
+  out << "(" << q.x() << ", " << q.y() << ", " << q.z() << ")";
+  return out.str();
+}
+
+double wrap_pi(double a) {
+  a = std::fmod(a + M_PI, 2 * M_PI);
+  if (a < 0) a += 2 * M_PI;
+  return a - M_PI;
+}
+
+bool has_boundary(const Surface& s) { return !s.boundary_loops.empty(); }
+
+// A node arriving at an open boundary ends a dual curve there (§5.7).
+std::vector<bool> boundary_vertices(const Surface& s) {
+  std::vector<bool> on(s.mesh.num_vertices(), false);
+  for (const auto& loop : s.boundary_loops)
+    for (Index v : loop) on[v] = true;
+  return on;
+}
+
+void append_chain(std::vector<Index>& chain, const std::vector<Index>& piece) {
+  // Consecutive pieces share their joining node.
+  chain.insert(chain.end(), chain.empty() ? piece.begin() : piece.begin() + 1, piece.end());
+}
+
+}  // namespace
+
+ResolvedAnchor resolve_anchor(const SearchContext& ctx, const SurfaceLocator& locator, const Anchor& anchor,
+                              double max_distance, int index) {
+  const Surface& s = ctx.surface;
+  const ElasticaGraph& g = ctx.graph;
+  const SurfacePoint3 sp = locator.closest(anchor.point);
+  ResolvedAnchor r;
+  r.distance = sp.distance;
+  if (!(sp.distance <= max_distance)) {
+    std::ostringstream msg;
+    msg << "anchor " << index + 1 << " at " << model_point(s, anchor.point) << " is "
+        << sp.distance * s.similarity.scale << " from the surface (more than "
+        << max_distance * s.similarity.scale << "): it is off the part";
+    throw InputError(msg.str());
+  }
+  // The nearest g-node: the closest corner of the triangle under the point.
+  const Tri& t = s.mesh.triangles[sp.triangle];
+  r.vertex = t[0];
+  for (Index v : t)
+    if ((s.mesh.positions[v] - sp.point).squaredNorm() < (s.mesh.positions[r.vertex] - sp.point).squaredNorm())
+      r.vertex = v;
+  const Index v = r.vertex;
+  const Index begin = g.node_offsets[v], end = g.node_offsets[v + 1];
+  if (anchor.directional()) {
+    const Vec3 n = s.normal[v];
+    const Vec3 d = anchor.direction - anchor.direction.dot(n) * n;
+    if (d.norm() < 1e-6 * anchor.direction.norm()) {
+      throw InputError("the direction of anchor " + std::to_string(index + 1) + " at " +
+                       model_point(s, anchor.point) + " is perpendicular to the surface");
+    }
+    const Vec3 e1 = g.frame[v], e2 = n.cross(e1);
+    const double theta = std::atan2(d.dot(e2), d.dot(e1));
+    // The node closest to the direction and the one closest to its opposite:
+    // a tangent's sign does not matter.
+    for (double want : {theta, theta + M_PI}) {
+      Index best = kInvalid;
+      double best_gap = 1e9;
+      for (Index node = begin; node < end; ++node) {
+        const double gap = std::abs(wrap_pi(g.angle[node] - want));
+        if (gap < best_gap) best_gap = gap, best = node;
+      }
+      if (best != kInvalid && !ctx.is_disabled(best) &&
+          std::find(r.candidates.begin(), r.candidates.end(), best) == r.candidates.end())
+        r.candidates.push_back(best);
+    }
+    if (r.candidates.empty())
+      throw InputError("the direction of anchor " + std::to_string(index + 1) + " at " + model_point(s, anchor.point) +
+                       " is disabled: it runs along an existing strip, so no compatible loop can take it");
+  } else {
+    for (Index node = begin; node < end; ++node)
+      if (!ctx.is_disabled(node)) r.candidates.push_back(node);
+    if (r.candidates.empty())
+      throw InputError("every direction at anchor " + std::to_string(index + 1) + " at " +
+                       model_point(s, anchor.point) + " is disabled by existing strips");
+  }
+  return r;
+}
+
+void evaluate_loop(const ElasticaGraph& g, Loop& loop) {
+  loop.cost = loop.length_term = loop.alignment_term = loop.curvature_term = 0;
+  loop.max_turn = 0;
+  const size_t n = loop.nodes.size();
+  const size_t arcs = loop.closed ? n : (n > 0 ? n - 1 : 0);
+  for (size_t i = 0; i < arcs; ++i) {
+    const Index from = loop.nodes[i], to = loop.nodes[(i + 1) % n];
+    const auto terms = g.arc_terms(from, to);
+    loop.length_term += terms.length;
+    loop.alignment_term += terms.alignment;
+    loop.curvature_term += terms.curvature;
+    loop.max_turn = std::max(loop.max_turn, g.turn(from, to));
+  }
+  std::vector<Index> chain = loop.nodes;
+  if (loop.closed && n > 0) chain.push_back(loop.nodes.front());
+  loop.cost = chain_cost(g, chain);
+}
+
+namespace {
+
+constexpr Index kFromPreviousLayer = -2;
+
+enum class Goal { ReturnToStart, Boundary };
+
+// The layered search (see the header): states (layer, node); layer l means
+// anchors 0..l are passed. From the start node (layer 0), the goal is to
+// re-enter the start in the last layer (a closed loop), or to arrive at an
+// open boundary in the last layer (the forward half of an open curve).
+Path layered_search(const SearchContext& ctx, SearchWorkspaces& ws, const std::vector<ResolvedAnchor>& anchors,
+                    Index start, Goal goal, double bound, bool guided, const std::vector<bool>& on_boundary) {
+  const ElasticaGraph& g = ctx.graph;
+  const Surface& s = ctx.surface;
+  const Index n = static_cast<Index>(anchors.size());
+  if (static_cast<Index>(ws.layers.size()) < n) ws.layers.resize(n);
+  for (Index l = 0; l < n; ++l) ws.layers[l].prepare(g.num_nodes());
+  std::vector<std::vector<Index>> next(n);  // sorted candidates of anchor l+1
+  for (Index l = 0; l + 1 < n; ++l) {
+    next[l] = anchors[l + 1].candidates;
+    std::sort(next[l].begin(), next[l].end());
+  }
+  // A* heuristic: straight-line distance through the remaining anchors, each
+  // shortened by half the longest g-edge there (a candidate node's midpoint
+  // lies that close to its anchor vertex), times the safety margin.
+  auto mid = [&](Index node) { return Vec3(0.5 * (s.mesh.positions[g.tail[node]] + s.mesh.positions[g.head[node]])); };
+  std::vector<Vec3> target(n + 1);
+  std::vector<double> slack(n + 1, 0.0), rest(n + 2, 0.0);
+  for (Index j = 1; j < n; ++j) {
+    const Index v = anchors[j].vertex;
+    target[j] = s.mesh.positions[v];
+    for (Index node = g.node_offsets[v]; node < g.node_offsets[v + 1]; ++node)
+      slack[j] = std::max(slack[j], 0.5 * double(g.length[node]));
+  }
+  target[n] = mid(start);
+  const Index last_target = goal == Goal::ReturnToStart ? n : n - 1;
+  for (Index j = last_target - 1; j >= 1; --j)
+    rest[j] = rest[j + 1] + std::max(0.0, (target[j + 1] - target[j]).norm() - slack[j] - slack[j + 1]);
+  auto h = [&](Index layer, Index node) {
+    if (!guided || layer + 1 > last_target) return 0.0;
+    const Index j = layer + 1;
+    return kHeuristicScale * (std::max(0.0, (mid(node) - target[j]).norm() - slack[j]) + rest[j]);
+  };
+
+  using Entry = std::pair<double, std::int64_t>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> heap;
+  auto key = [&](Index layer, Index node) { return std::int64_t(layer) * g.num_nodes() + node; };
+  ws.layers[0].set(start, 0.0, kInvalid);
+  heap.emplace(h(0, start), key(0, start));
+  double best = kUnreachable;
+  Index best_layer = kInvalid, best_node = kInvalid, best_pred = kInvalid;
+  std::size_t pops = 0;
+  while (!heap.empty()) {
+    const auto [k, state] = heap.top();
+    heap.pop();
+    const Index layer = static_cast<Index>(state / g.num_nodes()), x = static_cast<Index>(state % g.num_nodes());
+    SearchWorkspace& here = ws.layers[layer];
+    const double d = here.dist(x);
+    if (k > d + h(layer, x) + 1e-12) continue;
+    if (k >= std::min(best, bound)) break;
+    if ((++pops & 4095) == 0 && ctx.check_cancel) ctx.check_cancel();
+    if (layer == n - 1 && goal == Goal::Boundary && on_boundary[g.head[x]]) {
+      best = d, best_layer = layer, best_node = x;
+      break;  // settled in cost order: the first is the cheapest
+    }
+    if (layer + 1 < n && std::binary_search(next[layer].begin(), next[layer].end(), x) &&
+        d < ws.layers[layer + 1].dist(x)) {
+      ws.layers[layer + 1].set(x, d, kFromPreviousLayer);
+      heap.emplace(d + h(layer + 1, x), key(layer + 1, x));
+    }
+    for (Index a = g.arc_offsets[x]; a < g.arc_offsets[x + 1]; ++a) {
+      const Index y = g.arc_head[a];
+      if (ctx.is_disabled(y)) continue;
+      const double dy = d + g.arc_weight[a];
+      if (goal == Goal::ReturnToStart && layer == n - 1 && y == start) {
+        if (dy < best) best = dy, best_layer = layer, best_node = start, best_pred = x;  // via x
+        continue;
+      }
+      if (dy < here.dist(y) && !(layer == 0 && y == start)) {
+        here.set(y, dy, x);
+        heap.emplace(dy + h(layer, y), key(layer, y));
+      }
+    }
+  }
+  Path path;
+  if (best_node == kInvalid || !(best < bound)) return path;
+  path.cost = best;
+  // Walk back from a state to the start, through the layers.
+  auto trace = [&](Index layer, Index x) {
+    std::vector<Index> chain;
+    while (true) {
+      const Index p = ws.layers[layer].pred(x);
+      if (p == kFromPreviousLayer) {
+        --layer;
+        continue;
+      }
+      chain.push_back(x);
+      if (p == kInvalid) break;
+      x = p;
+    }
+    std::reverse(chain.begin(), chain.end());
+    return chain;
+  };
+  if (goal == Goal::ReturnToStart) {
+    path.nodes = trace(best_layer, best_pred);
+    path.nodes.push_back(start);
+  } else {
+    path.nodes = trace(best_layer, best_node);
+  }
+  return path;
+}
+
+// The best loop leaving through one start candidate (closed, or open through
+// the boundary), no costlier than `bound`.
+Loop best_loop_from(const SearchContext& ctx, SearchWorkspaces& ws, const std::vector<ResolvedAnchor>& anchors,
+                    Index start, double bound, const LoopSearchOptions& options, bool open,
+                    const std::vector<bool>& on_boundary) {
+  const ElasticaGraph& g = ctx.graph;
+  const bool guided = options.algorithm != SearchAlgorithm::Dijkstra;
+  Loop loop;
+  double cost = kUnreachable;
+  Path closed = anchors.size() == 1
+                    ? shortest_path(ctx, ws.forward, ws.backward, start, start, options.algorithm, bound)
+                    : layered_search(ctx, ws, anchors, start, Goal::ReturnToStart, bound, guided, on_boundary);
+  if (closed.found()) {
+    cost = closed.cost;
+    loop.nodes.assign(closed.nodes.begin(), closed.nodes.end() - 1);
+    loop.closed = true;
+  }
+  if (open) {
+    auto arrives = [&](Index node) { return bool(on_boundary[g.head[node]]); };
+    const double limit = std::min(cost, bound);
+    Path forward = layered_search(ctx, ws, anchors, start, Goal::Boundary, limit, guided, on_boundary);
+    if (forward.found()) {
+      Path backward = shortest_path_to_set(ctx, ws.forward, g.reverse[start], arrives, limit - forward.cost);
+      if (backward.found() && forward.cost + backward.cost < limit) {
+        cost = forward.cost + backward.cost;
+        loop.nodes = reversed_chain(g, backward.nodes);
+        append_chain(loop.nodes, forward.nodes);
+        loop.closed = false;
+      }
+    }
+  }
+  if (cost == kUnreachable) loop.nodes.clear();
+  return loop;
+}
+
+}  // namespace
+
+std::vector<Loop> find_loops(const SearchContext& ctx, SearchWorkspaces& ws, const std::vector<ResolvedAnchor>& given,
+                             int count, const LoopSearchOptions& options) {
+  const ElasticaGraph& g = ctx.graph;
+  if (given.empty()) throw InputError("a loop needs at least one anchor");
+  const bool open = options.allow_open && has_boundary(ctx.surface);
+  const std::vector<bool> on_boundary = boundary_vertices(ctx.surface);
+  // A closed loop is a cycle: start it at the anchor with the fewest
+  // candidates. An open curve runs from the boundary through the anchors in
+  // the given order, so then the first anchor starts.
+  std::vector<ResolvedAnchor> anchors = given;
+  if (!open) {
+    size_t smallest = 0;
+    for (size_t i = 1; i < anchors.size(); ++i)
+      if (anchors[i].candidates.size() < anchors[smallest].candidates.size()) smallest = i;
+    std::rotate(anchors.begin(), anchors.begin() + smallest, anchors.end());
+  }
+  // Well-aligned directions first: they usually hold the best loop, and the
+  // bound it sets cuts the later searches short.
+  std::vector<Index> starts = anchors[0].candidates;
+  std::stable_sort(starts.begin(), starts.end(), [&](Index a, Index b) { return g.alignment[a] < g.alignment[b]; });
+
+  // The best loop: every start's search bounded by the best so far (exact).
+  Loop best;
+  double bound = kUnreachable;
+  for (Index s : starts) {
+    Loop loop = best_loop_from(ctx, ws, anchors, s, bound, options, open, on_boundary);
+    if (loop.nodes.empty()) continue;
+    evaluate_loop(g, loop);
+    if (loop.cost < bound) bound = loop.cost, best = std::move(loop);
+  }
+  if (best.nodes.empty()) return {};
+  if (count <= 1) return {best};
+
+  // Alternatives: the best loop through each start, up to a cost cap.
+  const double cap = options.max_alternative_cost_ratio * best.cost;
+  std::vector<Loop> found{best};
+  for (Index s : starts) {
+    Loop loop = best_loop_from(ctx, ws, anchors, s, cap, options, open, on_boundary);
+    if (loop.nodes.empty()) continue;
+    evaluate_loop(g, loop);
+    found.push_back(std::move(loop));
+  }
+  std::stable_sort(found.begin(), found.end(), [](const Loop& a, const Loop& b) { return a.cost < b.cost; });
+
+  // Merge reversed copies and near-duplicates, keep the cheapest of each.
+  double mean_edge = 0;
+  for (const EdgeKey& e : ctx.surface.topology.edges)
+    mean_edge += (ctx.surface.mesh.positions[e[0]] - ctx.surface.mesh.positions[e[1]]).norm();
+  mean_edge /= std::max<Index>(1, ctx.surface.topology.num_edges());
+  const double tolerance = g.params.k * mean_edge;
+  std::vector<Loop> distinct;
+  for (Loop& loop : found) {
+    if (static_cast<int>(distinct.size()) >= count) break;
+    bool duplicate = false;
+    for (const Loop& kept : distinct) duplicate = duplicate || same_loop(ctx.surface, g, loop, kept, tolerance);
+    if (!duplicate) distinct.push_back(std::move(loop));
+  }
+  return distinct;
+}
+
+Loop best_loop_through(const SearchContext& ctx, SearchWorkspaces& ws, const ResolvedAnchor& anchor,
+                       const LoopSearchOptions& options) {
+  std::vector<Loop> loops = find_loops(ctx, ws, {anchor}, 1, options);
+  if (loops.empty()) throw InputError("no loop can pass through this point with the current constraints");
+  return loops.front();
+}
+
+bool same_loop(const Surface& s, const ElasticaGraph& g, const Loop& a, const Loop& b, double tolerance) {
+  auto covered = [&](const Loop& x, const Loop& y) {
+    const double t2 = tolerance * tolerance;
+    for (Index nx : x.nodes) {
+      const Vec3& p = s.mesh.positions[g.tail[nx]];
+      bool near = false;
+      for (Index ny : y.nodes)
+        if ((s.mesh.positions[g.tail[ny]] - p).squaredNorm() <= t2) {
+          near = true;
+          break;
+        }
+      if (!near) return false;
+    }
+    return true;
+  };
+  return covered(a, b) && covered(b, a);
+}
+
+}  // namespace stripweave

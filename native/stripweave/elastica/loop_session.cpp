@@ -1,0 +1,84 @@
+#include "stripweave/elastica/loop_session.h"
+
+#include "stripweave/cgal/surface_locator.h"
+#include "stripweave/core/error.h"
+
+#include <chrono>
+
+namespace stripweave {
+
+LoopSession::LoopSession(std::shared_ptr<const Surface> surface, const ElasticaParams& params, Progress* progress)
+    : surface_(std::move(surface)) {
+  const auto start = std::chrono::steady_clock::now();
+  graph_ = build_elastica_graph(*surface_, params, progress);
+  locator_ = std::make_unique<SurfaceLocator>(surface_->mesh);
+  build_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+LoopSession::~LoopSession() = default;
+
+template <typename F>
+auto LoopSession::run_query(F&& query) {
+  // Announce the new query first, so a running one sees its generation change
+  // and gives up; then wait for the scratch space.
+  const std::uint64_t mine = ++generation_;
+  std::lock_guard<std::mutex> lock(query_mutex_);
+  if (generation_.load() != mine) throw Cancelled();
+  SearchContext ctx{*surface_, graph_, disabled_, [this, mine] {
+                      if (generation_.load() != mine) throw Cancelled();
+                    }};
+  return query(ctx);
+}
+
+std::vector<Loop> LoopSession::loops(const std::vector<Anchor>& anchors, int count, bool allow_open) {
+  return run_query([&](const SearchContext& ctx) {
+    std::vector<ResolvedAnchor> resolved;
+    for (size_t i = 0; i < anchors.size(); ++i)
+      resolved.push_back(resolve_anchor(ctx, *locator_, anchors[i], max_anchor_distance, static_cast<int>(i)));
+    LoopSearchOptions options;
+    options.algorithm = algorithm;
+    options.allow_open = allow_open;
+    std::vector<Loop> result = find_loops(ctx, workspaces_, resolved, count, options);
+    if (result.empty())
+      throw InputError("no loop can meet these constraints: the anchors cannot be joined by a compatible loop");
+    return result;
+  });
+}
+
+Loop LoopSession::best_loop(const Vec3& point, bool allow_open) {
+  return run_query([&](const SearchContext& ctx) {
+    Anchor anchor;
+    anchor.point = point;
+    const ResolvedAnchor resolved = resolve_anchor(ctx, *locator_, anchor, max_anchor_distance, 0);
+    LoopSearchOptions options;
+    options.algorithm = algorithm;
+    options.allow_open = allow_open;
+    return best_loop_through(ctx, workspaces_, resolved, options);
+  });
+}
+
+ResolvedAnchor LoopSession::resolve(const Anchor& anchor, int index) {
+  SearchContext ctx{*surface_, graph_, disabled_, nullptr};
+  return resolve_anchor(ctx, *locator_, anchor, max_anchor_distance, index);
+}
+
+SurfacePath LoopSession::embed(const Loop& loop) const { return embed_path(*surface_, graph_, loop.nodes, loop.closed); }
+
+// Changing the mask makes a running query stale: cancel it, then change.
+void LoopSession::set_disabled(const std::vector<Index>& nodes, bool disabled) {
+  ++generation_;
+  std::lock_guard<std::mutex> lock(query_mutex_);
+  if (disabled_.empty()) disabled_.assign(graph_.num_nodes(), 0);
+  for (Index n : nodes) {
+    if (n < 0 || n >= graph_.num_nodes()) throw InputError("node id " + std::to_string(n) + " is not in the graph");
+    disabled_[n] = disabled ? 1 : 0;
+  }
+}
+
+void LoopSession::clear_disabled() {
+  ++generation_;
+  std::lock_guard<std::mutex> lock(query_mutex_);
+  disabled_.clear();
+}
+
+}  // namespace stripweave

@@ -1,0 +1,71 @@
+// LoopSession: the interactive loop engine over one surface (paper §4.1, §5).
+//
+// Owns the elastica graph, a locator for anchors, the mask of disabled g'
+// nodes (strip compatibility, §6.2) and the search scratch space. Built once
+// per surface and parameters; every query after that is output-sensitive.
+//
+// Threading: queries may come from any thread and release the Python GIL. A
+// newer query cancels an older one still running (it raises Cancelled), so
+// the hover tool always works on the latest cursor position. The mask can be
+// changed between queries, incrementally, without rebuilding anything.
+//
+// All points here are in normalized units; the bindings convert.
+#pragma once
+
+#include "stripweave/elastica/embed_path.h"
+#include "stripweave/elastica/loop_search.h"
+
+#include <atomic>
+#include <memory>
+#include <mutex>
+
+namespace stripweave {
+
+class SurfaceLocator;
+
+class LoopSession {
+ public:
+  LoopSession(std::shared_ptr<const Surface> surface, const ElasticaParams& params, Progress* progress = nullptr);
+  ~LoopSession();
+
+  const Surface& surface() const { return *surface_; }
+  const ElasticaGraph& graph() const { return graph_; }
+  double build_ms() const { return build_ms_; }
+
+  // Anchors farther than this from the surface are an error (normalized units).
+  double max_anchor_distance = 0.01;
+  SearchAlgorithm algorithm = SearchAlgorithm::Bidirectional;
+
+  // The loops through the anchors, cheapest first, at most `count` distinct.
+  std::vector<Loop> loops(const std::vector<Anchor>& anchors, int count, bool allow_open = true);
+  // Hover: the best loop through a point over all directions.
+  Loop best_loop(const Vec3& point, bool allow_open = true);
+  // The loop embedded on the surface.
+  SurfacePath embed(const Loop& loop) const;
+
+  // Anchor resolution on its own (for tests and tools).
+  ResolvedAnchor resolve(const Anchor& anchor, int index = 0);
+
+  // The compatibility mask.
+  void set_disabled(const std::vector<Index>& nodes, bool disabled);
+  void clear_disabled();
+  const std::vector<std::uint8_t>& disabled() const { return disabled_; }
+
+  // Cancel the running query, if any.
+  void cancel() { ++generation_; }
+
+ private:
+  template <typename F>
+  auto run_query(F&& query);
+
+  std::shared_ptr<const Surface> surface_;
+  ElasticaGraph graph_;
+  std::unique_ptr<SurfaceLocator> locator_;
+  std::vector<std::uint8_t> disabled_;
+  SearchWorkspaces workspaces_;
+  std::mutex query_mutex_;
+  std::atomic<std::uint64_t> generation_{0};
+  double build_ms_ = 0;
+};
+
+}  // namespace stripweave

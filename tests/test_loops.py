@@ -1,0 +1,205 @@
+"""Elastica loops (paper §5): analytic checks in model units."""
+import math
+
+import numpy as np
+import pytest
+
+import stripweave as sw
+from models import box, capped_cylinder, open_cylinder_shell, sphere, torus, winding_numbers
+from stripweave.loops import LoopSession
+
+
+@pytest.fixture(scope="module")
+def torus_session():
+    return LoopSession(sw.from_shape(torus(10, 3)))
+
+
+@pytest.fixture(scope="module")
+def cube_session():
+    return LoopSession(sw.from_shape(box(10)))
+
+
+def closed_length(loop):
+    p = np.asarray(loop["points"])
+    return np.linalg.norm(np.diff(p, axis=0), axis=1).sum()
+
+
+# --- torus ----------------------------------------------------------------------
+
+def test_torus_meridian_from_a_directional_anchor(torus_session):
+    loop = torus_session.loops([(13, 0, 0, 0, 0, 1)])[0]
+    assert loop["closed"]
+    assert loop["length"] == pytest.approx(2 * math.pi * 3, rel=0.02)
+    assert winding_numbers(loop["points"]) in {(0, 1), (0, -1)}
+
+
+def test_torus_outer_equator_from_a_directional_anchor(torus_session):
+    loop = torus_session.loops([(0, 13, 0, 1, 0, 0)])[0]
+    assert loop["closed"]
+    assert loop["length"] == pytest.approx(2 * math.pi * 13, rel=0.02)
+    assert winding_numbers(loop["points"]) in {(1, 0), (-1, 0)}
+
+
+def test_torus_positional_anchor_best_is_the_meridian_and_alternatives_span_homotopy_classes(torus_session):
+    loops = torus_session.loops([(13, 0, 0)], alternatives=8)
+    assert loops[0]["length"] == pytest.approx(2 * math.pi * 3, rel=0.02)
+    assert [l["cost"] for l in loops] == sorted(l["cost"] for l in loops)
+    classes = {tuple(abs(w) for w in winding_numbers(l["points"])) for l in loops if l["closed"]}
+    assert (0, 1) in classes and (1, 0) in classes  # the meridian and the equator-type loop
+
+
+def test_torus_another_direction_gives_another_homotopy_class(torus_session):
+    """Figure 3: at one point, the direction picks the homotopy class: along the tube the
+    meridian, around the axis the equator-type loop."""
+    across = torus_session.loops([(13, 0, 0, 0, 0, 1)])[0]
+    around = torus_session.loops([(13, 0, 0, 0, 1, 0)])[0]
+    assert tuple(map(abs, winding_numbers(across["points"]))) == (0, 1)
+    assert tuple(map(abs, winding_numbers(around["points"]))) == (1, 0)
+    assert around["length"] == pytest.approx(2 * math.pi * 13, rel=0.02)
+
+
+def test_two_anchors_in_order(torus_session):
+    anchors = [(13, 0, 0), (0, 13, 0)]
+    loop = torus_session.loops(anchors)[0]
+    p = np.asarray(loop["points"])
+    for a in anchors:
+        assert np.min(np.linalg.norm(p - np.array(a), axis=1)) < 0.6  # within a mesh edge or so
+
+
+def test_hover_best_loop_matches_the_ranked_list(torus_session):
+    hover = torus_session.best_loop((13, 0, 0))
+    listed = torus_session.loops([(13, 0, 0)])[0]
+    assert hover["cost"] <= listed["cost"] * (1 + 1e-6)
+    assert hover["length"] == pytest.approx(2 * math.pi * 3, rel=0.02)
+
+
+# --- sphere, cylinder, cube --------------------------------------------------------
+
+def test_sphere_great_circle():
+    session = LoopSession(sw.from_shape(sphere(5)))
+    loop = session.loops([(5, 0, 0, 0, 1, 0)])[0]
+    assert loop["closed"]
+    assert loop["length"] == pytest.approx(2 * math.pi * 5, rel=0.02)
+    p = np.asarray(loop["points"])
+    assert np.allclose(np.linalg.norm(p, axis=1), 5, atol=0.05)
+
+
+def test_capped_cylinder_circumference():
+    session = LoopSession(sw.from_shape(capped_cylinder(5, 20)))
+    loop = session.loops([(5, 0, 10, 0, 1, 0)])[0]
+    assert loop["closed"]
+    assert loop["length"] == pytest.approx(2 * math.pi * 5, rel=0.02)
+    assert np.ptp(np.asarray(loop["points"])[:, 2]) < 0.5  # stays at one height
+
+
+def test_cube_belt_crosses_edges_orthogonally(cube_session):
+    loop = cube_session.loops([(5, 5, 10, 1, 0, 0)])[0]
+    assert loop["closed"]
+    assert loop["length"] == pytest.approx(40, rel=0.02)
+    p = np.asarray(loop["points"])
+    on_edge = [i for i, q in enumerate(p[:-1]) if np.sum(np.isclose(q, 0, atol=1e-9) | np.isclose(q, 10, atol=1e-9)) >= 2]
+    assert len(on_edge) >= 4
+    edge_dirs = []
+    for i in on_edge:
+        q = p[i]
+        axis = np.flatnonzero(~(np.isclose(q, 0, atol=1e-9) | np.isclose(q, 10, atol=1e-9)))
+        if len(axis) != 1:
+            continue  # a cube corner
+        e = np.zeros(3)
+        e[axis[0]] = 1
+        for j in (i - 1, i + 1):
+            d = p[j % (len(p) - 1)] - q
+            d /= np.linalg.norm(d)
+            edge_dirs.append(math.degrees(math.asin(min(1.0, abs(d @ e)))))
+    assert len(edge_dirs) >= 8
+    assert max(edge_dirs) < 10.0
+
+
+def test_open_cylinder_aligned_gives_an_open_curve_meeting_the_boundaries_orthogonally():
+    session = LoopSession(sw.from_shape(open_cylinder_shell(5, 20)), boundary="aligned")
+    loop = session.loops([(5, 0, 10, 0, 0, 1)])[0]
+    assert not loop["closed"]
+    assert loop["length"] == pytest.approx(20, rel=0.03)
+    p = np.asarray(loop["points"])
+    assert {round(p[0, 2]), round(p[-1, 2])} == {0, 20}
+    for a, b in ((p[0], p[1]), (p[-1], p[-2])):
+        d = (b - a) / np.linalg.norm(b - a)
+        assert math.degrees(math.acos(min(1.0, abs(d[2])))) < 10.0
+
+
+# --- properties of every loop ---------------------------------------------------------
+
+def test_polylines_lie_on_the_surface_and_respect_the_turn_limit(torus_session):
+    surf = torus_session.surface
+    v = surf.vertices
+    edges = surf.edges
+    diag = surf.bbox_diagonal
+    for anchor in [(13, 0, 0), (0, 13, 0, 1, 0, 0), (7, 0, 0, 0, 1, 1)]:
+        for loop in torus_session.loops([anchor], alternatives=3):
+            assert loop["max_turn_deg"] <= 30.0 + 1e-6
+            p = np.asarray(loop["points"])
+            for q, vert, e, t in zip(p, loop["mesh_vertex"], loop["mesh_edge"], loop["edge_t"]):
+                if vert >= 0:
+                    on = v[vert]
+                else:
+                    a, b = edges[e]
+                    on = (1 - t) * v[a] + t * v[b]
+                assert np.linalg.norm(q - on) < 1e-6 * diag
+
+
+@pytest.mark.parametrize("algorithm", ["astar", "bidirectional"])
+def test_speedups_give_exactly_dijkstras_cost(algorithm):
+    surf = sw.from_shape(torus(10, 3), target_triangles=8000)
+    rng = np.random.default_rng(7)
+    plain = LoopSession(surf, algorithm="dijkstra")
+    fast = LoopSession(surf, algorithm=algorithm)
+    v = surf.vertices
+    for i in rng.choice(len(v), size=12, replace=False):
+        d = np.cross(surf.normals[i], rng.normal(size=3))
+        anchor = (*v[i], *d)
+        a = plain.loops([anchor])[0]["cost"]
+        b = fast.loops([anchor])[0]["cost"]
+        assert b == pytest.approx(a, rel=1e-9, abs=1e-9)
+    # and for two directional anchors in order
+    i, j = rng.choice(len(v), size=2, replace=False)
+    anchors = [(*v[i], *np.cross(surf.normals[i], [0, 0, 1.0])), (*v[j], *np.cross(surf.normals[j], [0, 0, 1.0]))]
+    assert fast.loops(anchors)[0]["cost"] == pytest.approx(plain.loops(anchors)[0]["cost"], rel=1e-9)
+
+
+# --- bad input -------------------------------------------------------------------------
+
+def test_anchor_off_the_surface(torus_session):
+    with pytest.raises(sw.InputError, match="off the part"):
+        torus_session.loops([(40, 0, 0)])
+
+
+def test_disabled_direction_is_a_clear_error(torus_session):
+    native = torus_session.native
+    vertex, candidates = native.anchor_candidates([13, 0, 0, 0, 0, 1])
+    native.set_disabled(candidates, True)
+    try:
+        with pytest.raises(sw.InputError, match="disabled"):
+            torus_session.loops([(13, 0, 0, 0, 0, 1)])
+    finally:
+        native.clear_disabled()
+
+
+def test_mask_changes_without_rebuilding(torus_session):
+    """Disabling the meridian's nodes makes the hover propose another loop; clearing restores it."""
+    before = torus_session.best_loop((13, 0, 0))
+    native = torus_session.native
+    native.set_disabled(before["nodes"], True)
+    try:
+        other = torus_session.best_loop((13, 0, 0))
+        assert not set(other["nodes"]) & set(before["nodes"])
+        assert other["cost"] > before["cost"]
+    finally:
+        native.clear_disabled()
+    again = torus_session.best_loop((13, 0, 0))
+    assert again["cost"] == pytest.approx(before["cost"], rel=1e-12)
+    assert again["nodes"] == before["nodes"]
+
+
+def test_unknown_boundary_mode():
+    with pytest.raises(sw.InputError, match="boundary"):
+        LoopSession(sw.from_shape(box(10), target_triangles=2000), boundary="diagonal")
