@@ -63,7 +63,7 @@ def random_surface_points(surface, count, seed=1):
     return np.einsum("ij,ijk->ik", w, v[t[tri]])
 
 
-def bench_loops(surface, hover_points=50, anchor_pairs=20, boundary="aligned"):
+def bench_loops(surface, hover_points=50, anchor_pairs=10, boundary="aligned"):
     """Graph build, hover (best loop over all directions) and two-anchor loops."""
     from .loops import LoopSession, timed
     session = LoopSession(surface, boundary=boundary)

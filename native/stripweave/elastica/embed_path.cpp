@@ -25,6 +25,8 @@
 #include <functional>
 #include <queue>
 #include <stdexcept>
+#include <cstdio>
+#include <cstdlib>
 
 namespace stripweave {
 
@@ -200,6 +202,7 @@ SurfacePath embed_path(const Surface& surface, const ElasticaGraph& graph, const
     segment.clear();
     mapper.compute(v, rings);
     bool ok = walk_segment(surface, mapper, w, segment);
+    if (!ok && getenv("SW_DEBUG_EMBED")) fprintf(stderr, "DEBUG forward walk failed %d->%d\n", v, w);
     if (!ok) {  // backwards in w's map: the points from w to v, reversed
       mapper.compute(w, rings);
       segment.push_back({w, kInvalid, 0});
@@ -211,6 +214,7 @@ SurfacePath embed_path(const Surface& surface, const ElasticaGraph& graph, const
         segment.clear();
       }
     }
+    if (!ok && getenv("SW_DEBUG_EMBED")) fprintf(stderr, "DEBUG backward walk failed %d->%d\n", v, w);
     if (!ok) {
       mapper.compute(v, rings);
       ok = edge_path(surface, mapper, w, segment);

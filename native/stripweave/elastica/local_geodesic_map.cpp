@@ -13,7 +13,6 @@ double corner_angle(const Vec3& p, const Vec3& a, const Vec3& b) {
   return std::atan2(ea.cross(eb).norm(), ea.dot(eb));
 }
 
-inline double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
 
 // Complex multiplication: rotate b by the unit complex number a.
 inline Vec2 rotate(const Vec2& a, const Vec2& b) {

@@ -2,10 +2,12 @@
 
 #include "stripweave/cgal/surface_locator.h"
 #include "stripweave/core/error.h"
+#include "stripweave/elastica/radix_heap.h"
 #include "stripweave/elastica/shortest_paths.h"
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <queue>
 #include <sstream>
 
@@ -128,8 +130,14 @@ enum class Goal { ReturnToStart, Boundary };
 // anchors 0..l are passed. From the start node (layer 0), the goal is to
 // re-enter the start in the last layer (a closed loop), or to arrive at an
 // open boundary in the last layer (the forward half of an open curve).
+// `fields`, when given, are exact lower bounds of the remaining cost per
+// layer and node (see backward_fields); they replace the straight-line
+// heuristic and prune every state that cannot beat `bound`.
+using Fields = std::vector<std::vector<float>>;
+
 Path layered_search(const SearchContext& ctx, SearchWorkspaces& ws, const std::vector<ResolvedAnchor>& anchors,
-                    Index start, Goal goal, double bound, bool guided, const std::vector<bool>& on_boundary) {
+                    Index start, Goal goal, double bound, bool guided, const std::vector<bool>& on_boundary,
+                    const Fields* fields = nullptr) {
   const ElasticaGraph& g = ctx.graph;
   const Surface& s = ctx.surface;
   const Index n = static_cast<Index>(anchors.size());
@@ -157,26 +165,25 @@ Path layered_search(const SearchContext& ctx, SearchWorkspaces& ws, const std::v
   for (Index j = last_target - 1; j >= 1; --j)
     rest[j] = rest[j + 1] + std::max(0.0, (target[j + 1] - target[j]).norm() - slack[j] - slack[j + 1]);
   auto h = [&](Index layer, Index node) {
+    if (fields) return double((*fields)[layer][node]);
     if (!guided || layer + 1 > last_target) return 0.0;
     const Index j = layer + 1;
     return kHeuristicScale * (std::max(0.0, (mid(node) - target[j]).norm() - slack[j]) + rest[j]);
   };
 
-  using Entry = std::pair<double, std::int64_t>;
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> heap;
+  RadixHeap<std::int64_t> heap;
   auto key = [&](Index layer, Index node) { return std::int64_t(layer) * g.num_nodes() + node; };
   ws.layers[0].set(start, 0.0, kInvalid);
-  heap.emplace(h(0, start), key(0, start));
+  heap.push(h(0, start), key(0, start));
   double best = kUnreachable;
   Index best_layer = kInvalid, best_node = kInvalid, best_pred = kInvalid;
   std::size_t pops = 0;
   while (!heap.empty()) {
-    const auto [k, state] = heap.top();
-    heap.pop();
+    const auto [k, state] = heap.pop();
     const Index layer = static_cast<Index>(state / g.num_nodes()), x = static_cast<Index>(state % g.num_nodes());
     SearchWorkspace& here = ws.layers[layer];
+    if (!here.settle(x)) continue;  // stale entry
     const double d = here.dist(x);
-    if (k > d + h(layer, x) + 1e-12) continue;
     if (k >= std::min(best, bound)) break;
     if ((++pops & 4095) == 0 && ctx.check_cancel) ctx.check_cancel();
     if (layer == n - 1 && goal == Goal::Boundary && on_boundary[g.head[x]]) {
@@ -184,9 +191,9 @@ Path layered_search(const SearchContext& ctx, SearchWorkspaces& ws, const std::v
       break;  // settled in cost order: the first is the cheapest
     }
     if (layer + 1 < n && std::binary_search(next[layer].begin(), next[layer].end(), x) &&
-        d < ws.layers[layer + 1].dist(x)) {
+        d < ws.layers[layer + 1].dist(x) && d + h(layer + 1, x) < bound) {
       ws.layers[layer + 1].set(x, d, kFromPreviousLayer);
-      heap.emplace(d + h(layer + 1, x), key(layer + 1, x));
+      heap.push(d + h(layer + 1, x), key(layer + 1, x));
     }
     for (Index a = g.arc_offsets[x]; a < g.arc_offsets[x + 1]; ++a) {
       const Index y = g.arc_head[a];
@@ -197,8 +204,10 @@ Path layered_search(const SearchContext& ctx, SearchWorkspaces& ws, const std::v
         continue;
       }
       if (dy < here.dist(y) && !(layer == 0 && y == start)) {
+        const double f = dy + h(layer, y);
+        if (!(f < std::min(best, bound))) continue;  // cannot lead to a better loop
         here.set(y, dy, x);
-        heap.emplace(dy + h(layer, y), key(layer, y));
+        heap.push(f, key(layer, y));
       }
     }
   }
@@ -228,6 +237,52 @@ Path layered_search(const SearchContext& ctx, SearchWorkspaces& ws, const std::v
     path.nodes = trace(best_layer, best_node);
   }
   return path;
+}
+
+// Exact lower bounds for the layered search of closed loops, shared by every
+// start: H[n-1](X) = cheapest path from X to any start candidate, and
+// H[l](X) = min over c in xi_{l+1} of (path X -> c) + H[l+1](c). Each is one
+// multi-source search; by the symmetry of g' the distance *to* a set is a
+// forward search from the reversed set. They are consistent (true
+// distances), so A* with them is exact, and capped at `cap`: states that
+// cannot beat it are never needed.
+Fields backward_fields(const SearchContext& ctx, SearchWorkspace& ws, const std::vector<ResolvedAnchor>& anchors,
+                       double cap) {
+  const ElasticaGraph& g = ctx.graph;
+  const Index n = static_cast<Index>(anchors.size());
+  const float inf = std::numeric_limits<float>::infinity();
+  Fields H(n, std::vector<float>(g.num_nodes(), inf));
+  for (Index l = n - 1; l >= 0; --l) {
+    const auto& targets = anchors[(l + 1) % n].candidates;
+    ws.prepare(g.num_nodes());
+    RadixHeap<Index> heap;
+    for (Index c : targets) {
+      const double c0 = l == n - 1 ? 0.0 : double(H[l + 1][c]);
+      if (!(c0 < cap) || ctx.is_disabled(c)) continue;
+      // Arriving at c costs its remaining bound; from reverse(c) outward.
+      const Index r = g.reverse[c];
+      if (c0 < ws.dist(r)) ws.set(r, c0, kInvalid), heap.push(c0, r);
+    }
+    std::size_t pops = 0;
+    while (!heap.empty()) {
+      const Index x = heap.pop().second;
+      if (!ws.settle(x)) continue;
+      const double d = ws.dist(x);
+      // x = reverse(X): d is the cheapest cost from X onward.
+      H[l][g.reverse[x]] = static_cast<float>(d);
+      if ((++pops & 4095) == 0 && ctx.check_cancel) ctx.check_cancel();
+      for (Index a = g.arc_offsets[x]; a < g.arc_offsets[x + 1]; ++a) {
+        const Index y = g.arc_head[a];
+        if (ctx.is_disabled(g.reverse[y])) continue;
+        const double dy = d + g.arc_weight[a];
+        if (dy < cap && dy < ws.dist(y)) ws.set(y, dy, x), heap.push(dy, y);
+      }
+    }
+  }
+  // Float rounding must not make a bound exceed the true remaining cost.
+  for (auto& layer : H)
+    for (float& v : layer) v = v == inf ? inf : v * (1.0f - 1e-6f);
+  return H;
 }
 
 // The best loop leaving through one start candidate (closed, or open through
@@ -291,11 +346,38 @@ std::vector<Loop> find_loops(const SearchContext& ctx, SearchWorkspaces& ws, con
   // The best loop: every start's search bounded by the best so far (exact).
   Loop best;
   double bound = kUnreachable;
-  for (Index s : starts) {
-    Loop loop = best_loop_from(ctx, ws, anchors, s, bound, options, open, on_boundary);
-    if (loop.nodes.empty()) continue;
-    evaluate_loop(g, loop);
-    if (loop.cost < bound) bound = loop.cost, best = std::move(loop);
+  const bool many_starts = anchors.size() > 1 && !open && starts.size() > 2;
+  if (many_starts) {
+    // Several positional anchors: one loop from the best-aligned start gives
+    // an upper bound; capped backward fields then bound every start from
+    // below, and the starts are tried cheapest bound first until the bound
+    // passes the best loop. Exact, and most directions are never searched.
+    Loop first = best_loop_from(ctx, ws, anchors, starts.front(), kUnreachable, options, open, on_boundary);
+    if (first.nodes.empty()) return {};
+    evaluate_loop(g, first);
+    bound = first.cost;
+    best = std::move(first);
+    const Fields fields = backward_fields(ctx, ws.forward, anchors, bound * (1 + 1e-9));
+    std::vector<std::pair<float, Index>> order;
+    for (Index st : starts)
+      if (fields[0][st] < bound) order.emplace_back(fields[0][st], st);
+    std::sort(order.begin(), order.end());
+    for (const auto& [lower, st] : order) {
+      if (!(lower < bound)) break;
+      Path p = layered_search(ctx, ws, anchors, st, Goal::ReturnToStart, bound, true, on_boundary, &fields);
+      if (!p.found()) continue;
+      Loop loop;
+      loop.nodes.assign(p.nodes.begin(), p.nodes.end() - 1);
+      evaluate_loop(g, loop);
+      if (loop.cost < bound) bound = loop.cost, best = std::move(loop);
+    }
+  } else {
+    for (Index s : starts) {
+      Loop loop = best_loop_from(ctx, ws, anchors, s, bound, options, open, on_boundary);
+      if (loop.nodes.empty()) continue;
+      evaluate_loop(g, loop);
+      if (loop.cost < bound) bound = loop.cost, best = std::move(loop);
+    }
   }
   if (best.nodes.empty()) return {};
   if (count <= 1) return {best};

@@ -1,14 +1,14 @@
 #include "stripweave/elastica/shortest_paths.h"
 
+#include "stripweave/elastica/radix_heap.h"
+
 #include <algorithm>
-#include <queue>
 
 namespace stripweave {
 
 namespace {
 
-using Entry = std::pair<double, Index>;  // (key, node)
-using MinHeap = std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>>;
+using MinHeap = RadixHeap<Index>;
 
 constexpr std::size_t kCancelPollMask = 4095;  // check cancellation every 4096 pops
 
@@ -34,14 +34,13 @@ std::vector<Index> trace_back(const SearchWorkspace& ws, Index from, Index sourc
 }  // namespace
 
 void SearchWorkspace::prepare(Index nodes) {
-  if (static_cast<Index>(dist_.size()) != nodes) {
-    dist_.assign(nodes, kUnreachable);
+  if (static_cast<Index>(slot_.size()) != nodes) {
+    slot_.assign(nodes, Slot{kUnreachable, 0, 0});
     pred_.assign(nodes, kInvalid);
-    stamp_.assign(nodes, 0);
     epoch_ = 0;
   }
   if (++epoch_ == 0) {  // wrapped: forget every old stamp
-    std::fill(stamp_.begin(), stamp_.end(), 0);
+    for (Slot& s : slot_) s.stamp = s.settled = 0;
     epoch_ = 1;
   }
   settled = 0;
@@ -79,14 +78,13 @@ static Path search_one(const SearchContext& ctx, SearchWorkspace& ws, Index sour
   auto h = [&](Index n) { return guided ? kHeuristicScale * (midpoint(ctx, n) - goal).norm() : 0.0; };
   MinHeap heap;
   ws.set(source, 0.0, kInvalid);
-  heap.emplace(h(source), source);
+  heap.push(h(source), source);
   Path best;
   Index best_pred = kInvalid;
   while (!heap.empty()) {
-    const auto [key, n] = heap.top();
-    heap.pop();
+    const auto [key, n] = heap.pop();
+    if (!ws.settle(n)) continue;  // stale entry
     const double d = ws.dist(n);
-    if (key > d + h(n) + 1e-12) continue;  // stale entry
     if (key >= std::min(best.cost, bound)) break;
     if (n == target && n != source) {
       best.cost = d;
@@ -104,7 +102,7 @@ static Path search_one(const SearchContext& ctx, SearchWorkspace& ws, Index sour
       }
       if (dm < ws.dist(m)) {
         ws.set(m, dm, n);
-        heap.emplace(dm + h(m), m);
+        heap.push(dm + h(m), m);
       }
     }
   }
@@ -125,8 +123,8 @@ static Path search_two(const SearchContext& ctx, SearchWorkspace& fw, SearchWork
   MinHeap hf, hb;
   fw.set(source, 0.0, kInvalid);
   bw.set(back_source, 0.0, kInvalid);
-  hf.emplace(0.0, source);
-  hb.emplace(0.0, back_source);
+  hf.push(0.0, source);
+  hb.push(0.0, back_source);
   double mu = bound;
   Index meet = kInvalid, meet_pred = kInvalid;
   bool meet_forward = true;
@@ -134,9 +132,9 @@ static Path search_two(const SearchContext& ctx, SearchWorkspace& fw, SearchWork
   // reverse(m). The trivial meeting (source itself, no arc) never happens:
   // meetings are only checked on relaxation.
   auto expand = [&](SearchWorkspace& self, SearchWorkspace& other, MinHeap& heap, bool forward) {
-    const auto [key, n] = heap.top();
-    heap.pop();
-    if (key > self.dist(n) + 1e-12) return;
+    const Index n = heap.pop().second;
+    if (!self.settle(n)) return;
+    const double key = self.dist(n);
     if ((++self.settled & kCancelPollMask) == 0 && ctx.check_cancel) ctx.check_cancel();
     for (Index a = g.arc_offsets[n]; a < g.arc_offsets[n + 1]; ++a) {
       const Index m = g.arc_head[a];
@@ -149,13 +147,14 @@ static Path search_two(const SearchContext& ctx, SearchWorkspace& fw, SearchWork
       }
       if (dm < self.dist(m) && !(forward ? m == source : m == back_source)) {
         self.set(m, dm, n);
-        heap.emplace(dm, m);
+        heap.push(dm, m);
       }
     }
   };
   while (!hf.empty() && !hb.empty()) {
-    if (hf.top().first + hb.top().first >= mu) break;
-    if (hf.top().first <= hb.top().first)
+    const double top_f = hf.top_key(), top_b = hb.top_key();
+    if (top_f + top_b >= mu) break;
+    if (top_f <= top_b)
       expand(fw, bw, hf, true);
     else
       expand(bw, fw, hb, false);
@@ -211,11 +210,12 @@ std::vector<Path> shortest_paths(const SearchContext& ctx, SearchWorkspace& ws, 
   const bool wants_loop = target_slots(source).first != target_slots(source).second;
   MinHeap heap;
   ws.set(source, 0.0, kInvalid);
-  heap.emplace(0.0, source);
+  heap.push(0.0, source);
   while (!heap.empty() && remaining > 0) {
-    const auto [d, n] = heap.top();
-    heap.pop();
-    if (d > ws.dist(n) + 1e-12) continue;
+    const auto [key, n] = heap.pop();
+    if (!ws.settle(n)) continue;
+    const double d = ws.dist(n);
+    (void)key;
     if (d >= bound) break;
     if (wants_loop && loop_cost <= d && loop_pred != kInvalid) {
       // The loop through the source is final once nothing cheaper is left.
@@ -244,7 +244,7 @@ std::vector<Path> shortest_paths(const SearchContext& ctx, SearchWorkspace& ws, 
       }
       if (dm < ws.dist(m)) {
         ws.set(m, dm, n);
-        heap.emplace(dm, m);
+        heap.push(dm, m);
       }
     }
   }
@@ -265,11 +265,12 @@ Path shortest_path_to_set(const SearchContext& ctx, SearchWorkspace& ws, Index s
   ws.prepare(g.num_nodes());
   MinHeap heap;
   ws.set(source, 0.0, kInvalid);
-  heap.emplace(0.0, source);
+  heap.push(0.0, source);
   while (!heap.empty()) {
-    const auto [d, n] = heap.top();
-    heap.pop();
-    if (d > ws.dist(n) + 1e-12) continue;
+    const auto [key, n] = heap.pop();
+    if (!ws.settle(n)) continue;
+    const double d = ws.dist(n);
+    (void)key;
     if (d >= bound) break;
     if (is_target(n)) {
       path.cost = d;
@@ -283,7 +284,7 @@ Path shortest_path_to_set(const SearchContext& ctx, SearchWorkspace& ws, Index s
       const double dm = d + g.arc_weight[a];
       if (dm < ws.dist(m)) {
         ws.set(m, dm, n);
-        heap.emplace(dm, m);
+        heap.push(dm, m);
       }
     }
   }

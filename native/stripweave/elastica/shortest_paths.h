@@ -39,23 +39,38 @@ struct Path {
   bool found() const { return cost < kUnreachable; }
 };
 
-// Per-node scratch arrays reused across searches (one per thread).
+// Per-node scratch space reused across searches (one per thread). A search
+// touches a node's distance, stamp and settled mark together, so they share
+// one 16-byte slot: one cache miss per relaxation instead of three, which is
+// what bounds the speed of searches over g' (millions of random accesses).
+// Epoch stamps make a new search O(1) to start.
 class SearchWorkspace {
  public:
   void prepare(Index nodes);
-  double dist(Index n) const { return stamp_[n] == epoch_ ? dist_[n] : kUnreachable; }
+  double dist(Index n) const { return slot_[n].stamp == epoch_ ? slot_[n].dist : kUnreachable; }
   Index pred(Index n) const { return pred_[n]; }
   void set(Index n, double d, Index p) {
-    stamp_[n] = epoch_;
-    dist_[n] = d;
+    slot_[n].stamp = epoch_;
+    slot_[n].dist = d;
     pred_[n] = p;
+  }
+  // Lazy deletion: a node may sit in the queue several times; only its first
+  // pop counts. (Comparing keys instead would fail where a monotone queue
+  // raised a key.)
+  bool settle(Index n) {
+    if (slot_[n].settled == epoch_) return false;
+    slot_[n].settled = epoch_;
+    return true;
   }
   std::size_t settled = 0;  // statistics of the last search
 
  private:
-  std::vector<double> dist_;
+  struct Slot {
+    double dist;
+    std::uint32_t stamp, settled;
+  };
+  std::vector<Slot> slot_;
   std::vector<Index> pred_;
-  std::vector<std::uint32_t> stamp_;
   std::uint32_t epoch_ = 0;
 };
 
