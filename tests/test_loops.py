@@ -203,3 +203,15 @@ def test_mask_changes_without_rebuilding(torus_session):
 def test_unknown_boundary_mode():
     with pytest.raises(sw.InputError, match="boundary"):
         LoopSession(sw.from_shape(box(10), target_triangles=2000), boundary="diagonal")
+
+
+def test_runs_are_deterministic_whatever_the_threads():
+    surf = sw.from_shape(torus(10, 3), target_triangles=8000)
+    one = LoopSession(surf, threads=1)
+    two = LoopSession(surf, threads=2)
+    rng = np.random.default_rng(3)
+    for i in rng.choice(len(surf.vertices), size=8, replace=False):
+        p = tuple(surf.vertices[i])
+        a, b, c = one.best_loop(p), two.best_loop(p), two.best_loop(p)
+        assert a["nodes"] == b["nodes"] == c["nodes"]
+        assert a["cost"] == b["cost"] == c["cost"]

@@ -143,6 +143,8 @@ void bind_loops(py::module_& m) {
       .def("node_vertices", [](const LoopSession& s, Index node) {
         return py::make_tuple(s.graph().tail.at(node), s.graph().head.at(node));
       })
+      .def("set_threads", &LoopSession::set_threads, py::arg("threads"),
+           "threads a query may use (default: two, one per core)")
       .def("set_disabled", &LoopSession::set_disabled, py::arg("nodes"), py::arg("disabled") = true)
       .def("clear_disabled", &LoopSession::clear_disabled)
       .def("cancel", &LoopSession::cancel);

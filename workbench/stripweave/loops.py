@@ -12,7 +12,9 @@ terms, the g' node chain and, per polyline point, the mesh vertex or mesh
 edge it lies on.
 
 Options: k=4, max_turn_deg=30, alpha=1.0, beta=0.25, boundary="aligned" |
-"trimmed", feature_weight=100. Queries release the GIL, and a newer query
+"trimmed", feature_weight=100; algorithm="bidirectional" | "astar" |
+"dijkstra" (equal costs, different speed); threads=2 (search directions
+are shared between both cores). Queries release the GIL, and a newer query
 cancels an older one still running (it raises Cancelled).
 """
 import time
@@ -40,9 +42,10 @@ def make_params(**options):
 class LoopSession:
     """The elastica graph of a surface and the loop queries on it."""
 
-    def __init__(self, surface, progress=None, algorithm="bidirectional", **options):
+    def __init__(self, surface, progress=None, algorithm="bidirectional", threads=2, **options):
         self.surface = surface
         self.native = native.LoopSession(surface, make_params(**options), progress)
+        self.native.set_threads(threads)
         self.algorithm = algorithm
 
     @property

@@ -24,9 +24,8 @@
 #include <algorithm>
 #include <functional>
 #include <queue>
+#include <limits>
 #include <stdexcept>
-#include <cstdio>
-#include <cstdlib>
 
 namespace stripweave {
 
@@ -136,8 +135,10 @@ bool walk_segment(const Surface& s, const LocalGeodesicMapper& mapper, Index w, 
     const double sa = side(la), sb = side(lb);
     const double lambda = sa / (sa - sb);  // from a to b
     const double p = d.dot(m.u[la] + lambda * (m.u[lb] - m.u[la]));
-    if (p > len * (1 + 1e-6)) break;  // passed w without meeting it: a fold
-    pos = std::max(pos, p);
+    // On an injective map the crossings advance monotonically and stop at w;
+    // anything else is a fold of the map (rare: strong curvature, noise).
+    if (p < pos - 1e-9 * len || p > len * (1 + 1e-9)) break;
+    pos = p;
     const Index e = edge_between(topo, from_tri, ea, eb);
     out.push_back({kInvalid, e, topo.edges[e][0] == ea ? lambda : 1 - lambda});
   }
@@ -177,6 +178,27 @@ bool edge_path(const Surface& s, const LocalGeodesicMapper& mapper, Index w, std
   return true;
 }
 
+// The length of the polyline from vertex v through the points.
+double polyline_length(const Surface& s, Index v, const std::vector<PathPoint>& pts) {
+  const auto& P = s.mesh.positions;
+  auto position = [&](const PathPoint& p) -> Vec3 {
+    if (p.vertex != kInvalid) return P[p.vertex];
+    const EdgeKey& e = s.topology.edges[p.edge];
+    return (1 - p.t) * P[e[0]] + p.t * P[e[1]];
+  };
+  double len = 0;
+  Vec3 prev = P[v];
+  for (const PathPoint& p : pts) {
+    const Vec3 x = position(p);
+    len += (x - prev).norm();
+    prev = x;
+  }
+  return len;
+}
+
+// Accept a walk up to this factor of the g-edge's length.
+constexpr double kLengthTolerance = 1.02;
+
 }  // namespace
 
 SurfacePath embed_path(const Surface& surface, const ElasticaGraph& graph, const std::vector<Index>& nodes,
@@ -195,32 +217,39 @@ SurfacePath embed_path(const Surface& surface, const ElasticaGraph& graph, const
   LocalGeodesicMapper mapper(domain);
   const int rings = graph.params.k + 1;
   std::vector<PathPoint> pts{{graph.tail[nodes.front()], kInvalid, 0}};
-  std::vector<PathPoint> segment;
+  std::vector<PathPoint> best, candidate;
   for (Index n : nodes) {
     const Index v = graph.tail[n], w = graph.head[n];
     path.node_start.push_back(static_cast<Index>(pts.size()) - 1);
-    segment.clear();
+    // A walk is accepted once it is about as long as the g-edge: a longer one
+    // crossed a squashed or stretched part of the map (see the header note).
+    const double good_enough = kLengthTolerance * graph.length[n];
+    double best_len = std::numeric_limits<double>::infinity();
+    auto consider = [&](bool ok) {
+      if (!ok) return;
+      const double len = polyline_length(surface, v, candidate);
+      if (len < best_len) best_len = len, best.swap(candidate);
+    };
+    candidate.clear();
     mapper.compute(v, rings);
-    bool ok = walk_segment(surface, mapper, w, segment);
-    if (!ok && getenv("SW_DEBUG_EMBED")) fprintf(stderr, "DEBUG forward walk failed %d->%d\n", v, w);
-    if (!ok) {  // backwards in w's map: the points from w to v, reversed
+    consider(walk_segment(surface, mapper, w, candidate));
+    if (best_len > good_enough) {  // backwards in w's map: the points from w to v, reversed
+      candidate.assign(1, {w, kInvalid, 0});
       mapper.compute(w, rings);
-      segment.push_back({w, kInvalid, 0});
-      ok = walk_segment(surface, mapper, v, segment);
+      const bool ok = walk_segment(surface, mapper, v, candidate);
       if (ok) {
-        segment.pop_back();  // v itself
-        std::reverse(segment.begin(), segment.end());
-      } else {
-        segment.clear();
+        candidate.pop_back();  // v itself
+        std::reverse(candidate.begin(), candidate.end());
       }
+      consider(ok);
     }
-    if (!ok && getenv("SW_DEBUG_EMBED")) fprintf(stderr, "DEBUG backward walk failed %d->%d\n", v, w);
-    if (!ok) {
+    if (best_len > good_enough) {
+      candidate.clear();
       mapper.compute(v, rings);
-      ok = edge_path(surface, mapper, w, segment);
+      consider(edge_path(surface, mapper, w, candidate));
     }
-    if (!ok) segment.assign(1, {w, kInvalid, 0});  // unreachable for a g-edge; keep the chain connected
-    pts.insert(pts.end(), segment.begin(), segment.end());
+    if (best_len == std::numeric_limits<double>::infinity()) best.assign(1, {w, kInvalid, 0});  // unreachable for a g-edge
+    pts.insert(pts.end(), best.begin(), best.end());
   }
 
   const auto& P = surface.mesh.positions;

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
 
 namespace stripweave {
 
@@ -100,7 +103,10 @@ const LocalGeodesicMap& LocalGeodesicMapper::compute(Index centre, int rings) {
   const Index n = map_.size();
   map_.u.assign(n, Vec2::Zero());
   state_.assign(n, 0);
-  cand_.assign(n, Candidate{Vec2::Zero(), 0.0, false});
+  Candidates none;
+  for (int k = 0; k < kKinds; ++k) none.u[k] = Vec2::Zero(), none.dist[k] = std::numeric_limits<double>::infinity();
+  none.chosen = kStraight;
+  cand_.assign(n, none);
   heap_.clear();
   state_[0] = 2;
 
@@ -115,9 +121,10 @@ const LocalGeodesicMap& LocalGeodesicMapper::compute(Index centre, int rings) {
     std::pop_heap(heap_.begin(), heap_.end(), later);
     const auto [d, i] = heap_.back();
     heap_.pop_back();
-    if (state_[i] == 2 || d != cand_[i].dist) continue;  // settled, or a stale entry
+    const Candidates& ci = cand_[i];
+    if (state_[i] == 2 || d != ci.dist[ci.chosen]) continue;  // settled, or a stale entry
     state_[i] = 2;
-    map_.u[i] = cand_[i].u;
+    map_.u[i] = ci.u[ci.chosen];
     const Index a = map_.vertex[i];
     for (const Index* t = vt.begin(a); t != vt.end(a); ++t) {
       const Tri& f = tris[*t];
@@ -228,11 +235,22 @@ void LocalGeodesicMapper::layout_fan() {
     if (la == kInvalid || state_[la] != 0) continue;
     const double len = (P[a] - P[v]).norm();
     const double th = angle * map_.angle_scale;
-    cand_[la] = {Vec2(len * std::cos(th), len * std::sin(th)), len, true};
+    cand_[la].u[kStraight] = Vec2(len * std::cos(th), len * std::sin(th));
+    cand_[la].dist[kStraight] = len;
     state_[la] = 3;
     heap_.emplace_back(len, la);
   }
   std::make_heap(heap_.begin(), heap_.end(), std::greater<std::pair<double, Index>>());
+}
+
+void LocalGeodesicMapper::choose(Candidates& c) const {
+  const double inf = std::numeric_limits<double>::infinity();
+  if (c.dist[kStraight] < inf)
+    c.chosen = c.dist[kBent] < c.dist[kStraight] ? kBent : kStraight;
+  else if (c.dist[kUnfolded] < inf)
+    c.chosen = kUnfolded;
+  else
+    c.chosen = kBlocked;
 }
 
 void LocalGeodesicMapper::unfold(Index la, Index lb, Index lc, bool c_left) {
@@ -264,18 +282,50 @@ void LocalGeodesicMapper::unfold(Index la, Index lb, Index lc, bool c_left) {
     lambda = (xs + mu * (xc - xs)) / lab;
     valid = mu >= 0 && lambda >= -1e-9 && lambda <= 1 + 1e-9;
   }
+  const bool beside_a = lambda < 0.5;  // if invalid: the side the ray passes
   lambda = std::clamp(lambda, 0.0, 1.0);
   // The rotations carrying S->A onto U(a) and S->B onto U(b) agree on a flat
   // surface; on a curved one they differ slightly and are blended.
   const Vec2 ra = rotation_between(SA, Ua), rb = rotation_between(SB, Ub);
   Vec2 r = (1 - lambda) * ra + lambda * rb;
   r = r.norm() > 0 ? Vec2(r.normalized()) : ra;
-  const Candidate c{rotate(r, SC), SC.norm(), valid};
-  Candidate& old = cand_[lc];
-  if (state_[lc] == 0 || (c.valid && !old.valid) || (c.valid == old.valid && c.dist < old.dist)) {
-    old = c;
+  // The unfolded distance, kept within the triangle inequalities of the
+  // triangle (a safeguard where |U(a)|, |U(b)| and |ab| are inconsistent and
+  // S could only be placed on the line ab).
+  const double la_c = std::sqrt(lac2), lb_c = std::sqrt(lbc2), da = std::sqrt(da2), db = std::sqrt(db2);
+  const double lo = std::max(da - la_c, db - lb_c), hi = std::min(da + la_c, db + lb_c);
+  const double dist = std::clamp(SC.norm(), std::min(lo, hi), hi);
+  Vec2 u = rotate(r, SC);
+  if (u.norm() > 0) u *= dist / u.norm();
+  Candidates& cs = cand_[lc];
+  const int before = cs.chosen;
+  const double before_dist = cs.dist[before];
+  auto offer = [&](int kind, const Vec2& cu, double cd) {
+    if (cd < cs.dist[kind]) cs.u[kind] = cu, cs.dist[kind] = cd;
+  };
+  if (valid) {
+    offer(kStraight, u, dist);
+  } else {
+    const Index lx = beside_a ? la : lb;
+    if (domain_.expands(map_.vertex[lx])) {
+      offer(kUnfolded, u, dist);
+      // The path bent at the passed corner x: |U(x)| + |xc|, leaving x
+      // in the direction the triangle gives.
+      const Vec2& Ux = beside_a ? Ua : Ub;
+      const Vec2 step = rotate(beside_a ? ra : rb, beside_a ? Vec2(SC - SA) : Vec2(SC - SB));
+      const Vec2 p = Ux + step;
+      const double bent = Ux.norm() + step.norm();
+      offer(kBent, p.norm() > 0 ? Vec2(p * (bent / p.norm())) : p, bent);
+    } else {
+      offer(kBlocked, u, dist);
+    }
+  }
+  choose(cs);
+  if (getenv("SW_DEBUG_MAP") && map_.vertex[lc] == atoi(getenv("SW_DEBUG_MAP")))
+    fprintf(stderr, "cand for %d from %d,%d: valid %d dist %.6f lambda %.4f beside %d (state %d) chosen %d %.6f | d_a %.5f d_b %.5f\n", map_.vertex[lc], map_.vertex[la], map_.vertex[lb], valid, dist, lambda, map_.vertex[beside_a ? la : lb], state_[lc], cs.chosen, cs.dist[cs.chosen], da, db);
+ == 0 || cs.chosen != before || cs.dist[cs.chosen] != before_dist) {
     state_[lc] = 1;
-    heap_.emplace_back(c.dist, lc);
+    heap_.emplace_back(cs.dist[cs.chosen], lc);
     std::push_heap(heap_.begin(), heap_.end(), std::greater<std::pair<double, Index>>());
   }
 }

@@ -32,10 +32,17 @@
 //     into the map by the rotation carrying a onto U(a) (resp. b onto U(b)),
 //     interpolated where the ray crosses ab. Flat regions are mapped exactly,
 //     developable ones (cylinders) up to the mesh's chords, and curved ones to
-//     second order in the ring's size. A candidate whose ray really passes
-//     through ab is preferred to one whose ray misses it (the geodesic runs
-//     through another triangle), then the shorter one wins. No unfolding
-//     crosses a sharp-feature or boundary edge.
+//     second order in the ring's size. No unfolding crosses a sharp-feature
+//     or boundary edge.
+//     Choosing among a vertex's candidates (see choose()): the shortest
+//     "straight" one (its ray really crosses ab) wins, unless a path bent at
+//     a corner the ray passes is shorter still (the straight one then comes
+//     round a saddle's shadow the long way); with no straight candidate yet
+//     (fast marching's obtuse-triangle case: the triangle the ray crosses
+//     settles later) the shortest unfolding whose ray misses ab is taken, as
+//     the surface continues smoothly there; last, an unfolding whose ray
+//     passes beside a feature or boundary vertex, which g-edges must not
+//     touch.
 // Cost: O(m log m) for m ring vertices; a mapper reuses its workspace, so
 // mapping every vertex of a 30K-triangle mesh at k = 4 takes well under a
 // second. A mapper is not thread-safe; use one per thread (the domain is
@@ -93,11 +100,14 @@ class LocalGeodesicMapper {
   Index local(Index v) const { return stamp_[v] == current_ ? local_[v] : kInvalid; }
 
  private:
-  struct Candidate {
-    Vec2 u;
-    double dist;
-    bool valid;  // the ray through the unfolded triangle really crosses its base
+  // The best candidate of each kind a vertex has received (dist = inf if none).
+  enum Kind { kStraight, kBent, kUnfolded, kBlocked, kKinds };
+  struct Candidates {
+    Vec2 u[kKinds];
+    double dist[kKinds];
+    int chosen;  // the kind in effect, see choose()
   };
+  void choose(Candidates& c) const;
   void add(Index v, int ring);
   void layout_fan();
   void unfold(Index a, Index b, Index c, bool c_left);
@@ -110,7 +120,7 @@ class LocalGeodesicMapper {
   std::uint32_t current_ = 0;
   // per local vertex, during compute()
   std::vector<std::uint8_t> state_;  // 0 unreached, 1 candidate, 2 settled
-  std::vector<Candidate> cand_;
+  std::vector<Candidates> cand_;
   std::vector<std::pair<double, Index>> heap_;
 };
 

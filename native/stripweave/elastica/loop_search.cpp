@@ -6,7 +6,10 @@
 #include "stripweave/elastica/shortest_paths.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <exception>
+#include <thread>
 #include <limits>
 #include <queue>
 #include <sstream>
@@ -320,11 +323,64 @@ Loop best_loop_from(const SearchContext& ctx, SearchWorkspaces& ws, const std::v
   return loop;
 }
 
+// The best loop over all start candidates, each search bounded by the best
+// found so far. The starts are shared among the workspaces' threads (both
+// cores): the bound is shared too, so every thread prunes with the best loop
+// any of them has found. Ties within rounding go to the earlier start, and a
+// search is only cut when it cannot even tie, so the result does not depend
+// on thread timing.
+Loop best_over_starts(const SearchContext& ctx, std::vector<SearchWorkspaces>& pool,
+                      const std::vector<ResolvedAnchor>& anchors, const std::vector<Index>& starts,
+                      const LoopSearchOptions& options, bool open, const std::vector<bool>& on_boundary) {
+  constexpr double kTie = 1e-9;
+  std::atomic<double> shared_bound{kUnreachable};
+  std::atomic<size_t> next_start{0};
+  struct Found {
+    Loop loop;
+    size_t index = 0;
+  };
+  std::vector<Found> found(pool.size());
+  std::vector<std::exception_ptr> failure(pool.size());
+  auto work = [&](size_t t) {
+    try {
+      for (size_t i; (i = next_start++) < starts.size();) {
+        const double bound = shared_bound.load() * (1 + kTie);
+        Loop loop = best_loop_from(ctx, pool[t], anchors, starts[i], bound, options, open, on_boundary);
+        if (loop.nodes.empty()) continue;
+        evaluate_loop(ctx.graph, loop);
+        Found& mine = found[t];
+        const bool better = mine.loop.nodes.empty() || loop.cost < mine.loop.cost * (1 - kTie) ||
+                            (loop.cost <= mine.loop.cost * (1 + kTie) && i < mine.index);
+        if (better) mine = {std::move(loop), i};
+        for (double b = shared_bound.load(); mine.loop.cost < b && !shared_bound.compare_exchange_weak(b, mine.loop.cost);) {
+        }
+      }
+    } catch (...) {
+      failure[t] = std::current_exception();
+    }
+  };
+  std::vector<std::thread> helpers;
+  for (size_t t = 1; t < pool.size(); ++t) helpers.emplace_back(work, t);
+  work(0);
+  for (auto& h : helpers) h.join();
+  for (auto& f : failure)
+    if (f) std::rethrow_exception(f);
+  Found* best = nullptr;
+  for (Found& f : found) {
+    if (f.loop.nodes.empty()) continue;
+    if (!best || f.loop.cost < best->loop.cost * (1 - kTie) ||
+        (f.loop.cost <= best->loop.cost * (1 + kTie) && f.index < best->index))
+      best = &f;
+  }
+  return best ? std::move(best->loop) : Loop{};
+}
+
 }  // namespace
 
-std::vector<Loop> find_loops(const SearchContext& ctx, SearchWorkspaces& ws, const std::vector<ResolvedAnchor>& given,
-                             int count, const LoopSearchOptions& options) {
+std::vector<Loop> find_loops(const SearchContext& ctx, std::vector<SearchWorkspaces>& pool,
+                             const std::vector<ResolvedAnchor>& given, int count, const LoopSearchOptions& options) {
   const ElasticaGraph& g = ctx.graph;
+  SearchWorkspaces& ws = pool.at(0);
   if (given.empty()) throw InputError("a loop needs at least one anchor");
   const bool open = options.allow_open && has_boundary(ctx.surface);
   const std::vector<bool> on_boundary = boundary_vertices(ctx.surface);
@@ -352,15 +408,30 @@ std::vector<Loop> find_loops(const SearchContext& ctx, SearchWorkspaces& ws, con
     // an upper bound; capped backward fields then bound every start from
     // below, and the starts are tried cheapest bound first until the bound
     // passes the best loop. Exact, and most directions are never searched.
-    Loop first = best_loop_from(ctx, ws, anchors, starts.front(), kUnreachable, options, open, on_boundary);
+    // (A start can fail to close any loop, e.g. when the mask blocks it.)
+    Loop first;
+    for (Index st : starts) {
+      first = best_loop_from(ctx, ws, anchors, st, kUnreachable, options, open, on_boundary);
+      if (!first.nodes.empty()) break;
+    }
     if (first.nodes.empty()) return {};
     evaluate_loop(g, first);
     bound = first.cost;
     best = std::move(first);
     const Fields fields = backward_fields(ctx, ws.forward, anchors, bound * (1 + 1e-9));
-    std::vector<std::pair<float, Index>> order;
+    // A start's lower bound: with one anchor the start is itself a target
+    // (field 0), so bound through its first arc instead.
+    auto lower_bound = [&](Index st) {
+      if (anchors.size() > 1) return double(fields[0][st]);
+      double lower = kUnreachable;
+      for (Index a = g.arc_offsets[st]; a < g.arc_offsets[st + 1]; ++a)
+        if (!ctx.is_disabled(g.arc_head[a]))
+          lower = std::min(lower, double(g.arc_weight[a]) + fields[0][g.arc_head[a]]);
+      return lower;
+    };
+    std::vector<std::pair<double, Index>> order;
     for (Index st : starts)
-      if (fields[0][st] < bound) order.emplace_back(fields[0][st], st);
+      if (const double lower = lower_bound(st); lower < bound) order.emplace_back(lower, st);
     std::sort(order.begin(), order.end());
     for (const auto& [lower, st] : order) {
       if (!(lower < bound)) break;
@@ -372,12 +443,7 @@ std::vector<Loop> find_loops(const SearchContext& ctx, SearchWorkspaces& ws, con
       if (loop.cost < bound) bound = loop.cost, best = std::move(loop);
     }
   } else {
-    for (Index s : starts) {
-      Loop loop = best_loop_from(ctx, ws, anchors, s, bound, options, open, on_boundary);
-      if (loop.nodes.empty()) continue;
-      evaluate_loop(g, loop);
-      if (loop.cost < bound) bound = loop.cost, best = std::move(loop);
-    }
+    best = best_over_starts(ctx, pool, anchors, starts, options, open, on_boundary);
   }
   if (best.nodes.empty()) return {};
   if (count <= 1) return {best};
@@ -409,9 +475,9 @@ std::vector<Loop> find_loops(const SearchContext& ctx, SearchWorkspaces& ws, con
   return distinct;
 }
 
-Loop best_loop_through(const SearchContext& ctx, SearchWorkspaces& ws, const ResolvedAnchor& anchor,
+Loop best_loop_through(const SearchContext& ctx, std::vector<SearchWorkspaces>& pool, const ResolvedAnchor& anchor,
                        const LoopSearchOptions& options) {
-  std::vector<Loop> loops = find_loops(ctx, ws, {anchor}, 1, options);
+  std::vector<Loop> loops = find_loops(ctx, pool, {anchor}, 1, options);
   if (loops.empty()) throw InputError("no loop can pass through this point with the current constraints");
   return loops.front();
 }

@@ -74,10 +74,12 @@ ResolvedAnchor resolve_anchor(const SearchContext& ctx, const SurfaceLocator& lo
 // Fill cost terms and max_turn of a loop from its nodes.
 void evaluate_loop(const ElasticaGraph& graph, Loop& loop);
 
-std::vector<Loop> find_loops(const SearchContext& ctx, SearchWorkspaces& ws, const std::vector<ResolvedAnchor>& anchors,
-                             int count, const LoopSearchOptions& options = {});
+// `pool` holds one scratch space per thread the search may use (one or two).
+std::vector<Loop> find_loops(const SearchContext& ctx, std::vector<SearchWorkspaces>& pool,
+                             const std::vector<ResolvedAnchor>& anchors, int count,
+                             const LoopSearchOptions& options = {});
 
-Loop best_loop_through(const SearchContext& ctx, SearchWorkspaces& ws, const ResolvedAnchor& anchor,
+Loop best_loop_through(const SearchContext& ctx, std::vector<SearchWorkspaces>& pool, const ResolvedAnchor& anchor,
                        const LoopSearchOptions& options = {});
 
 // Two loops are the same strip when either is a reversed copy of the other or

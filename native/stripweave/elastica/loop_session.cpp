@@ -3,7 +3,9 @@
 #include "stripweave/cgal/surface_locator.h"
 #include "stripweave/core/error.h"
 
+#include <algorithm>
 #include <chrono>
+#include <thread>
 
 namespace stripweave {
 
@@ -12,10 +14,17 @@ LoopSession::LoopSession(std::shared_ptr<const Surface> surface, const ElasticaP
   const auto start = std::chrono::steady_clock::now();
   graph_ = build_elastica_graph(*surface_, params, progress);
   locator_ = std::make_unique<SurfaceLocator>(surface_->mesh);
+  set_threads(static_cast<int>(std::min(2u, std::max(1u, std::thread::hardware_concurrency()))));
   build_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
 LoopSession::~LoopSession() = default;
+
+void LoopSession::set_threads(int threads) {
+  ++generation_;
+  std::lock_guard<std::mutex> lock(query_mutex_);
+  workspaces_.resize(std::max(1, threads));
+}
 
 template <typename F>
 auto LoopSession::run_query(F&& query) {

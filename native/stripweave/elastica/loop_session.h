@@ -35,6 +35,8 @@ class LoopSession {
   // Anchors farther than this from the surface are an error (normalized units).
   double max_anchor_distance = 0.01;
   SearchAlgorithm algorithm = SearchAlgorithm::Bidirectional;
+  // Threads a query may use (the machines have two cores).
+  void set_threads(int threads);
 
   // The loops through the anchors, cheapest first, at most `count` distinct.
   std::vector<Loop> loops(const std::vector<Anchor>& anchors, int count, bool allow_open = true);
@@ -62,7 +64,7 @@ class LoopSession {
   ElasticaGraph graph_;
   std::unique_ptr<SurfaceLocator> locator_;
   std::vector<std::uint8_t> disabled_;
-  SearchWorkspaces workspaces_;
+  std::vector<SearchWorkspaces> workspaces_;  // one per search thread
   std::mutex query_mutex_;
   std::atomic<std::uint64_t> generation_{0};
   double build_ms_ = 0;
