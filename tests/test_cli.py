@@ -82,3 +82,28 @@ def test_bench_json(torus_step):
     for stage in ("read", "tessellate", "remesh", "curvature", "total"):
         assert stages[stage]["median"] >= 0 and stages[stage]["p95"] >= stages[stage]["median"]
         assert stages[stage]["runs"] == 2
+
+
+def test_loop_json_contract(torus_step):
+    p = run("loop", torus_step, "--anchor", "13,0,0,0,0,1", "--json", "--target-triangles", "8000")
+    assert p.returncode == 0, p.stderr
+    out = json.loads(p.stdout)
+    assert out["time_ms"] >= 0
+    (loop,) = out["loops"]
+    assert {"cost", "length", "closed", "points", "max_turn_deg"} <= set(loop)
+    assert loop["closed"] and loop["length"] == pytest.approx(2 * 3.141592653589793 * 3, rel=0.02)
+    assert len(loop["points"][0]) == 3
+
+
+def test_loop_alternatives_and_text(torus_step):
+    p = run("loop", torus_step, "--anchor", "13,0,0", "--alternatives", "3", "--target-triangles", "8000")
+    assert p.returncode == 0, p.stderr
+    assert p.stdout.startswith("1. loop: length")
+    assert "search took" in p.stdout
+
+
+def test_loop_bad_anchor(torus_step):
+    p = run("loop", torus_step, "--anchor", "40,0,0", "--target-triangles", "4000")
+    assert p.returncode != 0 and "off the part" in p.stderr
+    p = run("loop", torus_step, "--anchor", "13,0", "--target-triangles", "4000")
+    assert p.returncode != 0 and "X,Y,Z" in p.stderr

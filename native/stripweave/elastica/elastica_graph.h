@@ -7,6 +7,11 @@
 //     vertex's k-ring), not from the straight chord. Geodesics do not pass
 //     through sharp-feature or boundary vertices: they may end on one, so a
 //     curve crosses a feature exactly at a g-vertex, where §5.6 applies.
+//     Hence "graph distance" counts paths whose inner vertices are off
+//     features and boundaries, and a pair is left out where its geodesic
+//     could only touch such a vertex, or where the two ends' maps disagree
+//     on its length by more than 5% (together about 1% of pairs on CAD
+//     parts with many creases, none on smooth closed surfaces).
 // g': nodes are the directed g-edges ("nodes" below); a g'-edge ("arc")
 //     joins (u->v) to (v->w) when the turning angle gamma at v, measured in
 //     v's tangent plane, is at most max_turn. Its weight is eq. (2):

@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
-#include <cstdio>
-#include <cstdlib>
 #include <limits>
 
 namespace stripweave {
@@ -88,6 +86,7 @@ const LocalGeodesicMap& LocalGeodesicMapper::compute(Index centre, int rings) {
   map_.vertex.clear();
   map_.ring.clear();
   map_.u.clear();
+  map_.touches_blocked.clear();
 
   // 1. The ring: breadth-first, not continuing from feature / boundary
   //    vertices other than the centre (they end geodesics, never carry them).
@@ -102,12 +101,19 @@ const LocalGeodesicMap& LocalGeodesicMapper::compute(Index centre, int rings) {
   }
   const Index n = map_.size();
   map_.u.assign(n, Vec2::Zero());
+  map_.touches_blocked.assign(n, 0);
   state_.assign(n, 0);
   Candidates none;
-  for (int k = 0; k < kKinds; ++k) none.u[k] = Vec2::Zero(), none.dist[k] = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < kKinds; ++k) {
+    none.u[k] = Vec2::Zero();
+    none.dist[k] = std::numeric_limits<double>::infinity();
+    none.from[k][0] = none.from[k][1] = kInvalid;
+  }
   none.chosen = kStraight;
   cand_.assign(n, none);
   heap_.clear();
+  key_.assign(n, 0.0);
+  deferred_.assign(n, 0);
   state_[0] = 2;
 
   // 2. The 1-ring from the fan (fixed: state 3 until settled).
@@ -121,11 +127,39 @@ const LocalGeodesicMap& LocalGeodesicMapper::compute(Index centre, int rings) {
     std::pop_heap(heap_.begin(), heap_.end(), later);
     const auto [d, i] = heap_.back();
     heap_.pop_back();
+    if (state_[i] == 2 || d != key_[i]) continue;  // settled, or a stale entry
     const Candidates& ci = cand_[i];
-    if (state_[i] == 2 || d != ci.dist[ci.chosen]) continue;  // settled, or a stale entry
+    const Index a = map_.vertex[i];
+    if (ci.chosen != kStraight && !deferred_[i]) {
+      // Fast marching's obtuse-triangle case: the triangle (x, j, i) that
+      // i's geodesic really crosses may still wait for its corner j, which
+      // is farther from the centre than i. Settle i after such corners (once),
+      // so it can still get its straight candidate.
+      double wait = -1;
+      for (const Index* t = vt.begin(a); t != vt.end(a); ++t) {
+        const Tri& f = tris[*t];
+        const int k = f[0] == a ? 0 : f[1] == a ? 1 : 2;
+        const Index l1 = local(f[(k + 1) % 3]), l2 = local(f[(k + 2) % 3]);
+        if (l1 == kInvalid || l2 == kInvalid) continue;
+        const auto& te = s_.topology.triangle_edges[*t];
+        if (state_[l1] == 2 && (state_[l2] == 1 || state_[l2] == 3) &&
+            s_.edge_class[te[(k + 1) % 3]] == EdgeClass::Regular)
+          wait = std::max(wait, key_[l2]);
+        if (state_[l2] == 2 && (state_[l1] == 1 || state_[l1] == 3) &&
+            s_.edge_class[te[(k + 1) % 3]] == EdgeClass::Regular)
+          wait = std::max(wait, key_[l1]);
+      }
+      deferred_[i] = 1;
+      if (wait >= d) {
+        push(i, std::nextafter(wait, std::numeric_limits<double>::infinity()));
+        continue;
+      }
+    }
     state_[i] = 2;
     map_.u[i] = ci.u[ci.chosen];
-    const Index a = map_.vertex[i];
+    const Index* from = ci.from[ci.chosen];
+    map_.touches_blocked[i] = ci.chosen == kBlocked || (from[0] != kInvalid && map_.touches_blocked[from[0]]) ||
+                              (from[1] != kInvalid && map_.touches_blocked[from[1]]);
     for (const Index* t = vt.begin(a); t != vt.end(a); ++t) {
       const Tri& f = tris[*t];
       const int j = f[0] == a ? 0 : f[1] == a ? 1 : 2;
@@ -153,11 +187,13 @@ const LocalGeodesicMap& LocalGeodesicMapper::compute(Index centre, int rings) {
     map_.vertex[kept] = v;
     map_.u[kept] = map_.u[i];
     map_.ring[kept] = map_.ring[i];
+    map_.touches_blocked[kept] = map_.touches_blocked[i];
     local_[v] = kept++;
   }
   map_.vertex.resize(kept);
   map_.u.resize(kept);
   map_.ring.resize(kept);
+  map_.touches_blocked.resize(kept);
   return map_;
 }
 
@@ -238,9 +274,14 @@ void LocalGeodesicMapper::layout_fan() {
     cand_[la].u[kStraight] = Vec2(len * std::cos(th), len * std::sin(th));
     cand_[la].dist[kStraight] = len;
     state_[la] = 3;
-    heap_.emplace_back(len, la);
+    push(la, len);
   }
-  std::make_heap(heap_.begin(), heap_.end(), std::greater<std::pair<double, Index>>());
+}
+
+void LocalGeodesicMapper::push(Index i, double key) {
+  key_[i] = key;
+  heap_.emplace_back(key, i);
+  std::push_heap(heap_.begin(), heap_.end(), std::greater<std::pair<double, Index>>());
 }
 
 void LocalGeodesicMapper::choose(Candidates& c) const {
@@ -300,33 +341,30 @@ void LocalGeodesicMapper::unfold(Index la, Index lb, Index lc, bool c_left) {
   Candidates& cs = cand_[lc];
   const int before = cs.chosen;
   const double before_dist = cs.dist[before];
-  auto offer = [&](int kind, const Vec2& cu, double cd) {
-    if (cd < cs.dist[kind]) cs.u[kind] = cu, cs.dist[kind] = cd;
+  auto offer = [&](int kind, const Vec2& cu, double cd, Index f0, Index f1) {
+    if (cd < cs.dist[kind]) cs.u[kind] = cu, cs.dist[kind] = cd, cs.from[kind][0] = f0, cs.from[kind][1] = f1;
   };
   if (valid) {
-    offer(kStraight, u, dist);
+    offer(kStraight, u, dist, la, lb);
   } else {
     const Index lx = beside_a ? la : lb;
     if (domain_.expands(map_.vertex[lx])) {
-      offer(kUnfolded, u, dist);
+      offer(kUnfolded, u, dist, la, lb);
       // The path bent at the passed corner x: |U(x)| + |xc|, leaving x
       // in the direction the triangle gives.
       const Vec2& Ux = beside_a ? Ua : Ub;
       const Vec2 step = rotate(beside_a ? ra : rb, beside_a ? Vec2(SC - SA) : Vec2(SC - SB));
       const Vec2 p = Ux + step;
       const double bent = Ux.norm() + step.norm();
-      offer(kBent, p.norm() > 0 ? Vec2(p * (bent / p.norm())) : p, bent);
+      offer(kBent, p.norm() > 0 ? Vec2(p * (bent / p.norm())) : p, bent, lx, kInvalid);
     } else {
-      offer(kBlocked, u, dist);
+      offer(kBlocked, u, dist, la, lb);
     }
   }
   choose(cs);
-  if (getenv("SW_DEBUG_MAP") && map_.vertex[lc] == atoi(getenv("SW_DEBUG_MAP")))
-    fprintf(stderr, "cand for %d from %d,%d: valid %d dist %.6f lambda %.4f beside %d (state %d) chosen %d %.6f | d_a %.5f d_b %.5f\n", map_.vertex[lc], map_.vertex[la], map_.vertex[lb], valid, dist, lambda, map_.vertex[beside_a ? la : lb], state_[lc], cs.chosen, cs.dist[cs.chosen], da, db);
- == 0 || cs.chosen != before || cs.dist[cs.chosen] != before_dist) {
+  if (state_[lc] == 0 || cs.chosen != before || cs.dist[cs.chosen] != before_dist) {
     state_[lc] = 1;
-    heap_.emplace_back(cs.dist[cs.chosen], lc);
-    std::push_heap(heap_.begin(), heap_.end(), std::greater<std::pair<double, Index>>());
+    push(lc, cs.dist[cs.chosen]);
   }
 }
 

@@ -71,7 +71,8 @@ ResolvedAnchor resolve_anchor(const SearchContext& ctx, const SurfaceLocator& lo
   const Index v = r.vertex;
   const Index begin = g.node_offsets[v], end = g.node_offsets[v + 1];
   if (anchor.directional()) {
-    const Vec3 n = s.normal[v];
+    // The plane of v's polar angles: on a crease, the mean of both sides.
+    const Vec3 n = g.normal[v];
     const Vec3 d = anchor.direction - anchor.direction.dot(n) * n;
     if (d.norm() < 1e-6 * anchor.direction.norm()) {
       throw InputError("the direction of anchor " + std::to_string(index + 1) + " at " +
