@@ -215,3 +215,28 @@ def test_runs_are_deterministic_whatever_the_threads():
         a, b, c = one.best_loop(p), two.best_loop(p), two.best_loop(p)
         assert a["nodes"] == b["nodes"] == c["nodes"]
         assert a["cost"] == b["cost"] == c["cost"]
+
+
+def test_a_newer_query_cancels_an_older_one(torus_session):
+    """Hovering on: a slow query still running is cancelled by the next one (raises Cancelled)."""
+    import threading
+    import time
+    outcome = {}
+
+    def slow():
+        try:
+            # Two positional anchors on opposite sides: seconds of search.
+            torus_session.native.loops([[13, 0, 0], [-7, 0, 0]], 1, True)
+            outcome["slow"] = "finished"
+        except sw.Cancelled:
+            outcome["slow"] = "cancelled"
+
+    worker = threading.Thread(target=slow)
+    start = time.perf_counter()
+    worker.start()
+    time.sleep(0.2)  # the slow query is under way (it releases the GIL)
+    hover = torus_session.best_loop((13, 0, 0))
+    worker.join()
+    elapsed = time.perf_counter() - start
+    assert outcome["slow"] == "cancelled", f"the older query was not cancelled ({elapsed:.2f} s)"
+    assert hover["length"] == pytest.approx(2 * math.pi * 3, rel=0.02)

@@ -7,10 +7,6 @@
 
 // Monge_via_jet_fitting only has a default SVD (Eigen_svd) under this flag,
 // and it must be the same in every CGAL translation unit (one definition rule).
-#ifndef CGAL_EIGEN3_ENABLED
-#define CGAL_EIGEN3_ENABLED
-#endif
-
 #include <CGAL/Eigen_svd.h>
 #include <CGAL/Monge_via_jet_fitting.h>
 #include <CGAL/Simple_cartesian.h>

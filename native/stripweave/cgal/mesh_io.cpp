@@ -12,10 +12,6 @@
 // Same as every CGAL translation unit of the library: class templates such as
 // Default_diagonalize_traits change with this flag, so it must not differ
 // between them (one definition rule).
-#ifndef CGAL_EIGEN3_ENABLED
-#define CGAL_EIGEN3_ENABLED
-#endif
-
 // The per-format headers, not CGAL/IO/polygon_soup_io.h: we dispatch on the
 // extension ourselves, and that header also pulls in the GOCAD and VTK readers.
 #include <CGAL/IO/OBJ.h>

@@ -14,10 +14,6 @@
 #include "stripweave/core/error.h"
 
 // Must agree across the library's CGAL translation units (one definition rule).
-#ifndef CGAL_EIGEN3_ENABLED
-#define CGAL_EIGEN3_ENABLED
-#endif
-
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/remesh.h>
 #include <CGAL/Surface_mesh.h>

@@ -138,38 +138,40 @@ std::vector<std::vector<Index>> boundary_loops(const TriangleMesh& mesh, const M
   return loops;
 }
 
-std::vector<std::pair<Index, Index>> non_manifold_vertices(const TriangleMesh& mesh, const MeshTopology& topo) {
-  // Count the fans around each vertex: triangles around v are joined when
-  // they share an edge incident to v. More than one fan is a pinch.
-  std::vector<std::pair<Index, Index>> result;
-  std::vector<Index> label;
-  for (Index v = 0; v < mesh.num_vertices(); ++v) {
-    const Index n = topo.vertex_triangles.size(v);
-    if (n <= 1) continue;
-    const Index* tris = topo.vertex_triangles.begin(v);
-    label.assign(n, kInvalid);
-    Index fans = 0;
-    for (Index s = 0; s < n; ++s) {
-      if (label[s] != kInvalid) continue;
-      label[s] = fans;
-      std::vector<Index> stack{s};
-      while (!stack.empty()) {
-        const Index i = stack.back();
-        stack.pop_back();
-        for (Index e : topo.triangle_edges[tris[i]]) {
-          if (topo.edges[e][0] != v && topo.edges[e][1] != v) continue;
-          for (Index nt : topo.edge_triangles[e]) {
-            if (nt == kInvalid) continue;
-            for (Index j = 0; j < n; ++j)
-              if (tris[j] == nt && label[j] == kInvalid) {
-                label[j] = fans;
-                stack.push_back(j);
-              }
-          }
+std::vector<Index> vertex_fans(const MeshTopology& topo, Index v, Index& fans) {
+  const Index n = topo.vertex_triangles.size(v);
+  const Index* tris = topo.vertex_triangles.begin(v);
+  std::vector<Index> label(n, kInvalid);
+  fans = 0;
+  for (Index s = 0; s < n; ++s) {
+    if (label[s] != kInvalid) continue;
+    label[s] = fans;
+    std::vector<Index> stack{s};
+    while (!stack.empty()) {
+      const Index i = stack.back();
+      stack.pop_back();
+      for (Index e : topo.triangle_edges[tris[i]]) {
+        if (topo.edges[e][0] != v && topo.edges[e][1] != v) continue;
+        for (Index nt : topo.edge_triangles[e]) {
+          if (nt == kInvalid) continue;
+          for (Index j = 0; j < n; ++j)
+            if (tris[j] == nt && label[j] == kInvalid) {
+              label[j] = fans;
+              stack.push_back(j);
+            }
         }
       }
-      ++fans;
     }
+    ++fans;
+  }
+  return label;
+}
+
+std::vector<std::pair<Index, Index>> non_manifold_vertices(const TriangleMesh& mesh, const MeshTopology& topo) {
+  std::vector<std::pair<Index, Index>> result;
+  for (Index v = 0; v < mesh.num_vertices(); ++v) {
+    Index fans = 0;
+    if (topo.vertex_triangles.size(v) > 1) vertex_fans(topo, v, fans);
     if (fans > 1) result.emplace_back(v, fans);
   }
   return result;

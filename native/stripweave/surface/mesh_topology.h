@@ -58,6 +58,11 @@ Index triangle_components(const MeshTopology& topo, Index num_triangles, std::ve
 // oriented like the triangles they bound.
 std::vector<std::vector<Index>> boundary_loops(const TriangleMesh& mesh, const MeshTopology& topo);
 
+// The fans around vertex v: triangles around v joined through edges at v
+// share a fan. Returns, per triangle of vertex_triangles(v) in that order,
+// its fan id (0..fans-1); `fans` receives the count.
+std::vector<Index> vertex_fans(const MeshTopology& topo, Index v, Index& fans);
+
 // Vertices whose triangle fan is not a single disc or half-disc (pinched
 // vertices), each as the number of separate fans around it.
 std::vector<std::pair<Index, Index>> non_manifold_vertices(const TriangleMesh& mesh, const MeshTopology& topo);

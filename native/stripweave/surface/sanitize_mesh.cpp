@@ -184,30 +184,11 @@ Index orient_consistently(TriangleMesh& m, const MeshTopology& topo) {
 // Give every extra fan of a pinched vertex its own copy of the vertex.
 Index split_pinched_vertices(TriangleMesh& m, const MeshTopology& topo) {
   const auto pinched = non_manifold_vertices(m, topo);
-  for (const auto& [v, fans] : pinched) {
-    // Re-label fans: walk triangles around v joined through edges at v.
-    std::vector<Index> tris(topo.vertex_triangles.begin(v), topo.vertex_triangles.end(v));
-    std::vector<Index> fan(tris.size(), kInvalid);
+  for (const auto& pinch : pinched) {
+    const Index v = pinch.first;
+    const std::vector<Index> tris(topo.vertex_triangles.begin(v), topo.vertex_triangles.end(v));
     Index count = 0;
-    for (size_t s = 0; s < tris.size(); ++s) {
-      if (fan[s] != kInvalid) continue;
-      fan[s] = count;
-      std::vector<size_t> stack{s};
-      while (!stack.empty()) {
-        const size_t i = stack.back();
-        stack.pop_back();
-        for (Index e : topo.triangle_edges[tris[i]]) {
-          if (topo.edges[e][0] != v && topo.edges[e][1] != v) continue;
-          for (Index nt : topo.edge_triangles[e])
-            for (size_t j = 0; j < tris.size(); ++j)
-              if (tris[j] == nt && fan[j] == kInvalid) {
-                fan[j] = count;
-                stack.push_back(j);
-              }
-        }
-      }
-      ++count;
-    }
+    const std::vector<Index> fan = vertex_fans(topo, v, count);
     std::vector<Index> copy(count, v);
     for (Index c = 1; c < count; ++c) {
       copy[c] = m.num_vertices();
