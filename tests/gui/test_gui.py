@@ -34,7 +34,7 @@ def _build_dir():
 
 def _require(tool):
     if shutil.which(tool) is None:
-        pytest.skip("{} is not installed".format(tool))
+        pytest.fail("{} is not installed".format(tool))
 
 
 @pytest.fixture(scope="module")
@@ -43,7 +43,7 @@ def gui_run(tmp_path_factory):
     _require("xvfb-run")
     build = _build_dir()
     if not glob.glob(str(build / "_stripweave*.so")):
-        pytest.skip("native module not built: no _stripweave*.so in {}".format(build))
+        pytest.fail("native module not built: no _stripweave*.so in {}".format(build))
 
     tmp = tmp_path_factory.mktemp("stripweave_gui")
     home = tmp / "freecad_home"
