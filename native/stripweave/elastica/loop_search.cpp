@@ -293,14 +293,19 @@ Fields backward_fields(const SearchContext& ctx, SearchWorkspace& ws, const std:
 // the boundary), no costlier than `bound`.
 Loop best_loop_from(const SearchContext& ctx, SearchWorkspaces& ws, const std::vector<ResolvedAnchor>& anchors,
                     Index start, double bound, const LoopSearchOptions& options, bool open,
-                    const std::vector<bool>& on_boundary) {
+                    const std::vector<bool>& on_boundary, std::size_t budget = std::numeric_limits<std::size_t>::max(),
+                    bool* aborted = nullptr) {
   const ElasticaGraph& g = ctx.graph;
   const bool guided = options.algorithm != SearchAlgorithm::Dijkstra;
   Loop loop;
   double cost = kUnreachable;
   Path closed = anchors.size() == 1
-                    ? shortest_path(ctx, ws.forward, ws.backward, start, start, options.algorithm, bound)
+                    ? shortest_path(ctx, ws.forward, ws.backward, start, start, options.algorithm, bound, budget)
                     : layered_search(ctx, ws, anchors, start, Goal::ReturnToStart, bound, guided, on_boundary);
+  if (closed.aborted) {
+    if (aborted) *aborted = true;
+    return {};
+  }
   if (closed.found()) {
     cost = closed.cost;
     loop.nodes.assign(closed.nodes.begin(), closed.nodes.end() - 1);
@@ -342,11 +347,34 @@ Loop best_over_starts(const SearchContext& ctx, std::vector<SearchWorkspaces>& p
   };
   std::vector<Found> found(pool.size());
   std::vector<std::exception_ptr> failure(pool.size());
+  // While no loop is known, a search runs without a bound and an expensive
+  // direction can sweep most of the graph; such a start is put off (at a
+  // budget of settled nodes) and searched again, bounded, once a loop is known.
+  // Every start is still searched to the end: the result stays exact.
+  constexpr std::size_t kUnboundedBudget = 30000;
   auto work = [&](size_t t) {
     try {
-      for (size_t i; (i = next_start++) < starts.size();) {
+      std::vector<size_t> deferred;
+      auto next = [&]() -> size_t {
+        const size_t i = next_start++;
+        if (i < starts.size()) return i;
+        if (deferred.empty()) return starts.size();
+        const size_t d = deferred.back();
+        deferred.pop_back();
+        return d;
+      };
+      for (size_t i; (i = next()) < starts.size();) {
         const double bound = shared_bound.load() * (1 + kTie);
-        Loop loop = best_loop_from(ctx, pool[t], anchors, starts[i], bound, options, open, on_boundary);
+        const bool unbounded = bound == kUnreachable;
+        bool aborted = false;
+        Loop loop = best_loop_from(ctx, pool[t], anchors, starts[i], bound, options, open, on_boundary,
+                                   unbounded && next_start < starts.size() ? kUnboundedBudget
+                                                                           : std::numeric_limits<std::size_t>::max(),
+                                   &aborted);
+        if (aborted) {
+          deferred.insert(deferred.begin(), i);
+          continue;
+        }
         if (loop.nodes.empty()) continue;
         evaluate_loop(ctx.graph, loop);
         Found& mine = found[t];

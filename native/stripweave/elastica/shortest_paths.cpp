@@ -71,7 +71,7 @@ std::vector<Index> reversed_chain(const ElasticaGraph& g, const std::vector<Inde
 // Unidirectional search (Dijkstra, or A* toward `target` when guided).
 // Re-entering the source is recorded as the loop through it.
 static Path search_one(const SearchContext& ctx, SearchWorkspace& ws, Index source, Index target, bool guided,
-                       double bound) {
+                       double bound, std::size_t budget) {
   const ElasticaGraph& g = ctx.graph;
   ws.prepare(g.num_nodes());
   const Vec3 goal = midpoint(ctx, target);
@@ -92,6 +92,11 @@ static Path search_one(const SearchContext& ctx, SearchWorkspace& ws, Index sour
       return best;
     }
     if ((++ws.settled & kCancelPollMask) == 0 && ctx.check_cancel) ctx.check_cancel();
+    if (ws.settled > budget) {
+      Path aborted;
+      aborted.aborted = true;
+      return aborted;
+    }
     for (Index a = g.arc_offsets[n]; a < g.arc_offsets[n + 1]; ++a) {
       const Index m = g.arc_head[a];
       if (ctx.is_disabled(m)) continue;
@@ -115,7 +120,7 @@ static Path search_one(const SearchContext& ctx, SearchWorkspace& ws, Index sour
 // reverse(target), which by the symmetry of the weights is the backward search
 // from the target. A meeting at node X joins source..X with reverse(...).
 static Path search_two(const SearchContext& ctx, SearchWorkspace& fw, SearchWorkspace& bw, Index source,
-                       Index target, double bound) {
+                       Index target, double bound, std::size_t budget) {
   const ElasticaGraph& g = ctx.graph;
   fw.prepare(g.num_nodes());
   bw.prepare(g.num_nodes());
@@ -152,6 +157,11 @@ static Path search_two(const SearchContext& ctx, SearchWorkspace& fw, SearchWork
     }
   };
   while (!hf.empty() && !hb.empty()) {
+    if (fw.settled + bw.settled > budget) {
+      Path aborted;
+      aborted.aborted = true;
+      return aborted;
+    }
     const double top_f = hf.top_key(), top_b = hb.top_key();
     if (top_f + top_b >= mu) break;
     if (top_f <= top_b)
@@ -179,12 +189,12 @@ static Path search_two(const SearchContext& ctx, SearchWorkspace& fw, SearchWork
 }
 
 Path shortest_path(const SearchContext& ctx, SearchWorkspace& ws, SearchWorkspace& ws_back, Index source,
-                   Index target, SearchAlgorithm algorithm, double bound) {
+                   Index target, SearchAlgorithm algorithm, double bound, std::size_t budget) {
   if (ctx.is_disabled(source) || ctx.is_disabled(target)) return {};
   switch (algorithm) {
-    case SearchAlgorithm::Dijkstra: return search_one(ctx, ws, source, target, false, bound);
-    case SearchAlgorithm::AStar: return search_one(ctx, ws, source, target, true, bound);
-    case SearchAlgorithm::Bidirectional: return search_two(ctx, ws, ws_back, source, target, bound);
+    case SearchAlgorithm::Dijkstra: return search_one(ctx, ws, source, target, false, bound, budget);
+    case SearchAlgorithm::AStar: return search_one(ctx, ws, source, target, true, bound, budget);
+    case SearchAlgorithm::Bidirectional: return search_two(ctx, ws, ws_back, source, target, bound, budget);
   }
   return {};
 }

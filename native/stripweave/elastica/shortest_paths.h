@@ -36,6 +36,7 @@ constexpr double kHeuristicScale = 0.95;
 struct Path {
   double cost = kUnreachable;
   std::vector<Index> nodes;
+  bool aborted = false;  // the search hit its budget before it could decide
   bool found() const { return cost < kUnreachable; }
 };
 
@@ -91,8 +92,12 @@ struct SearchContext {
 
 // One source to one target (source == target: the cheapest loop through it),
 // with costs above `bound` not explored.
+// `budget` caps the nodes settled; past it the search stops with
+// Path::aborted (used to put off a start that looks expensive until a bound
+// is known).
 Path shortest_path(const SearchContext& ctx, SearchWorkspace& ws, SearchWorkspace& ws_back, Index source,
-                   Index target, SearchAlgorithm algorithm, double bound = kUnreachable);
+                   Index target, SearchAlgorithm algorithm, double bound = kUnreachable,
+                   std::size_t budget = std::numeric_limits<std::size_t>::max());
 
 // One source to many targets (Dijkstra; a target equal to the source gets the
 // loop through it). Returns one path per target, in order.
