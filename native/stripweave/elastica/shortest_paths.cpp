@@ -199,74 +199,6 @@ Path shortest_path(const SearchContext& ctx, SearchWorkspace& ws, SearchWorkspac
   return {};
 }
 
-std::vector<Path> shortest_paths(const SearchContext& ctx, SearchWorkspace& ws, Index source,
-                                 const std::vector<Index>& targets, double bound) {
-  const ElasticaGraph& g = ctx.graph;
-  std::vector<Path> result(targets.size());
-  if (ctx.is_disabled(source)) return result;
-  ws.prepare(g.num_nodes());
-  // Which targets are still open; the source as a target means the loop.
-  std::vector<std::pair<Index, size_t>> open;
-  for (size_t i = 0; i < targets.size(); ++i)
-    if (!ctx.is_disabled(targets[i])) open.emplace_back(targets[i], i);
-  std::sort(open.begin(), open.end());
-  auto target_slots = [&](Index n) {
-    return std::equal_range(open.begin(), open.end(), std::make_pair(n, size_t(0)),
-                            [](const auto& a, const auto& b) { return a.first < b.first; });
-  };
-  size_t remaining = open.size();
-  double loop_cost = kUnreachable;
-  Index loop_pred = kInvalid;
-  const bool wants_loop = target_slots(source).first != target_slots(source).second;
-  MinHeap heap;
-  ws.set(source, 0.0, kInvalid);
-  heap.push(0.0, source);
-  while (!heap.empty() && remaining > 0) {
-    const auto [key, n] = heap.pop();
-    if (!ws.settle(n)) continue;
-    const double d = ws.dist(n);
-    (void)key;
-    if (d >= bound) break;
-    if (wants_loop && loop_cost <= d && loop_pred != kInvalid) {
-      // The loop through the source is final once nothing cheaper is left.
-      for (auto [it, end] = target_slots(source); it != end; ++it) {
-        result[it->second].cost = loop_cost;
-        result[it->second].nodes = trace_back(ws, source, source, loop_pred);
-        --remaining;
-      }
-      loop_pred = kInvalid;
-      if (remaining == 0) break;
-    }
-    if (n != source)
-      for (auto [it, end] = target_slots(n); it != end; ++it) {
-        result[it->second].cost = d;
-        result[it->second].nodes = trace_back(ws, n, source, ws.pred(n));
-        --remaining;
-      }
-    if ((++ws.settled & kCancelPollMask) == 0 && ctx.check_cancel) ctx.check_cancel();
-    for (Index a = g.arc_offsets[n]; a < g.arc_offsets[n + 1]; ++a) {
-      const Index m = g.arc_head[a];
-      if (ctx.is_disabled(m)) continue;
-      const double dm = d + g.arc_weight[a];
-      if (m == source) {
-        if (dm < loop_cost) loop_cost = dm, loop_pred = n;
-        continue;
-      }
-      if (dm < ws.dist(m)) {
-        ws.set(m, dm, n);
-        heap.push(dm, m);
-      }
-    }
-  }
-  if (wants_loop && loop_pred != kInvalid && loop_cost < bound)
-    for (auto [it, end] = target_slots(source); it != end; ++it)
-      if (!result[it->second].found()) {
-        result[it->second].cost = loop_cost;
-        result[it->second].nodes = trace_back(ws, source, source, loop_pred);
-      }
-  return result;
-}
-
 Path shortest_path_to_set(const SearchContext& ctx, SearchWorkspace& ws, Index source,
                           const std::function<bool(Index)>& is_target, double bound) {
   const ElasticaGraph& g = ctx.graph;
@@ -277,10 +209,9 @@ Path shortest_path_to_set(const SearchContext& ctx, SearchWorkspace& ws, Index s
   ws.set(source, 0.0, kInvalid);
   heap.push(0.0, source);
   while (!heap.empty()) {
-    const auto [key, n] = heap.pop();
+    const Index n = heap.pop().second;
     if (!ws.settle(n)) continue;
     const double d = ws.dist(n);
-    (void)key;
     if (d >= bound) break;
     if (is_target(n)) {
       path.cost = d;

@@ -99,11 +99,6 @@ Path shortest_path(const SearchContext& ctx, SearchWorkspace& ws, SearchWorkspac
                    Index target, SearchAlgorithm algorithm, double bound = kUnreachable,
                    std::size_t budget = std::numeric_limits<std::size_t>::max());
 
-// One source to many targets (Dijkstra; a target equal to the source gets the
-// loop through it). Returns one path per target, in order.
-std::vector<Path> shortest_paths(const SearchContext& ctx, SearchWorkspace& ws, Index source,
-                                 const std::vector<Index>& targets, double bound = kUnreachable);
-
 // From the source to the nearest node accepted by `is_target` (e.g. arriving
 // at an open boundary).
 Path shortest_path_to_set(const SearchContext& ctx, SearchWorkspace& ws, Index source,
