@@ -66,11 +66,16 @@ def test_two_anchors_in_order(torus_session):
         assert np.min(np.linalg.norm(p - np.array(a), axis=1)) < 0.6  # within a mesh edge or so
 
 
-def test_hover_best_loop_matches_the_ranked_list(torus_session):
-    hover = torus_session.best_loop((13, 0, 0))
-    listed = torus_session.loops([(13, 0, 0)])[0]
-    assert hover["cost"] <= listed["cost"] * (1 + 1e-6)
-    assert hover["length"] == pytest.approx(2 * math.pi * 3, rel=0.02)
+def test_hover_is_exact_whatever_the_pruning(torus_session):
+    """Hover prunes each direction by the best loop so far, defers expensive directions and
+    shares them between threads; plain Dijkstra on one thread must find the same best cost."""
+    surf = torus_session.surface
+    plain = LoopSession(surf, algorithm="dijkstra", threads=1)
+    rng = np.random.default_rng(11)
+    for i in rng.choice(len(surf.vertices), size=6, replace=False):
+        p = tuple(surf.vertices[i])
+        assert torus_session.best_loop(p)["cost"] == pytest.approx(plain.best_loop(p)["cost"], rel=1e-9)
+    assert torus_session.best_loop((13, 0, 0))["length"] == pytest.approx(2 * math.pi * 3, rel=0.02)
 
 
 # --- sphere, cylinder, cube --------------------------------------------------------
@@ -150,20 +155,21 @@ def test_polylines_lie_on_the_surface_and_respect_the_turn_limit(torus_session):
 @pytest.mark.parametrize("algorithm", ["astar", "bidirectional"])
 def test_speedups_give_exactly_dijkstras_cost(algorithm):
     surf = sw.from_shape(torus(10, 3), target_triangles=8000)
+    session = LoopSession(surf)
     rng = np.random.default_rng(7)
-    plain = LoopSession(surf, algorithm="dijkstra")
-    fast = LoopSession(surf, algorithm=algorithm)
     v = surf.vertices
+
+    def cost(anchors, name):
+        session.algorithm = name
+        return session.loops(anchors)[0]["cost"]
+
     for i in rng.choice(len(v), size=12, replace=False):
-        d = np.cross(surf.normals[i], rng.normal(size=3))
-        anchor = (*v[i], *d)
-        a = plain.loops([anchor])[0]["cost"]
-        b = fast.loops([anchor])[0]["cost"]
-        assert b == pytest.approx(a, rel=1e-9, abs=1e-9)
+        anchor = [(*v[i], *np.cross(surf.normals[i], rng.normal(size=3)))]
+        assert cost(anchor, algorithm) == pytest.approx(cost(anchor, "dijkstra"), rel=1e-9, abs=1e-9)
     # and for two directional anchors in order
     i, j = rng.choice(len(v), size=2, replace=False)
     anchors = [(*v[i], *np.cross(surf.normals[i], [0, 0, 1.0])), (*v[j], *np.cross(surf.normals[j], [0, 0, 1.0]))]
-    assert fast.loops(anchors)[0]["cost"] == pytest.approx(plain.loops(anchors)[0]["cost"], rel=1e-9)
+    assert cost(anchors, algorithm) == pytest.approx(cost(anchors, "dijkstra"), rel=1e-9)
 
 
 # --- bad input -------------------------------------------------------------------------

@@ -11,7 +11,6 @@
 #include <exception>
 #include <thread>
 #include <limits>
-#include <queue>
 #include <sstream>
 
 namespace stripweave {
@@ -31,22 +30,27 @@ double wrap_pi(double a) {
   return a - M_PI;
 }
 
-bool has_boundary(const Surface& s) { return !s.boundary_loops.empty(); }
-
-// A node arriving at an open boundary ends a dual curve there (§5.7).
-std::vector<bool> boundary_vertices(const Surface& s) {
-  std::vector<bool> on(s.mesh.num_vertices(), false);
-  for (const auto& loop : s.boundary_loops)
-    for (Index v : loop) on[v] = true;
-  return on;
-}
-
 void append_chain(std::vector<Index>& chain, const std::vector<Index>& piece) {
   // Consecutive pieces share their joining node.
   chain.insert(chain.end(), chain.empty() ? piece.begin() : piece.begin() + 1, piece.end());
 }
 
 }  // namespace
+
+LoopTables loop_tables(const Surface& s, const ElasticaGraph& g) {
+  LoopTables t;
+  // A node arriving at an open boundary ends a dual curve there (§5.7).
+  t.on_boundary.assign(s.mesh.num_vertices(), false);
+  for (const auto& loop : s.boundary_loops)
+    for (Index v : loop) t.on_boundary[v] = true;
+  t.has_boundary = !s.boundary_loops.empty();
+  // Loops closer than the reach of one g-edge are the same strip.
+  double mean_edge = 0;
+  for (const EdgeKey& e : s.topology.edges) mean_edge += (s.mesh.positions[e[0]] - s.mesh.positions[e[1]]).norm();
+  mean_edge /= std::max<Index>(1, s.topology.num_edges());
+  t.duplicate_tolerance = g.params.k * mean_edge;
+  return t;
+}
 
 ResolvedAnchor resolve_anchor(const SearchContext& ctx, const SurfaceLocator& locator, const Anchor& anchor,
                               double max_distance, int index) {
@@ -406,13 +410,13 @@ Loop best_over_starts(const SearchContext& ctx, std::vector<SearchWorkspaces>& p
 
 }  // namespace
 
-std::vector<Loop> find_loops(const SearchContext& ctx, std::vector<SearchWorkspaces>& pool,
+std::vector<Loop> find_loops(const SearchContext& ctx, const LoopTables& tables, std::vector<SearchWorkspaces>& pool,
                              const std::vector<ResolvedAnchor>& given, int count, const LoopSearchOptions& options) {
   const ElasticaGraph& g = ctx.graph;
   SearchWorkspaces& ws = pool.at(0);
   if (given.empty()) throw InputError("a loop needs at least one anchor");
-  const bool open = options.allow_open && has_boundary(ctx.surface);
-  const std::vector<bool> on_boundary = boundary_vertices(ctx.surface);
+  const bool open = options.allow_open && tables.has_boundary;
+  const std::vector<bool>& on_boundary = tables.on_boundary;
   // A closed loop is a cycle: start it at the anchor with the fewest
   // candidates. An open curve runs from the boundary through the anchors in
   // the given order, so then the first anchor starts.
@@ -489,24 +493,19 @@ std::vector<Loop> find_loops(const SearchContext& ctx, std::vector<SearchWorkspa
   std::stable_sort(found.begin(), found.end(), [](const Loop& a, const Loop& b) { return a.cost < b.cost; });
 
   // Merge reversed copies and near-duplicates, keep the cheapest of each.
-  double mean_edge = 0;
-  for (const EdgeKey& e : ctx.surface.topology.edges)
-    mean_edge += (ctx.surface.mesh.positions[e[0]] - ctx.surface.mesh.positions[e[1]]).norm();
-  mean_edge /= std::max<Index>(1, ctx.surface.topology.num_edges());
-  const double tolerance = g.params.k * mean_edge;
   std::vector<Loop> distinct;
   for (Loop& loop : found) {
     if (static_cast<int>(distinct.size()) >= count) break;
     bool duplicate = false;
-    for (const Loop& kept : distinct) duplicate = duplicate || same_loop(ctx.surface, g, loop, kept, tolerance);
+    for (const Loop& kept : distinct) duplicate = duplicate || same_loop(ctx.surface, g, loop, kept, tables.duplicate_tolerance);
     if (!duplicate) distinct.push_back(std::move(loop));
   }
   return distinct;
 }
 
-Loop best_loop_through(const SearchContext& ctx, std::vector<SearchWorkspaces>& pool, const ResolvedAnchor& anchor,
-                       const LoopSearchOptions& options) {
-  std::vector<Loop> loops = find_loops(ctx, pool, {anchor}, 1, options);
+Loop best_loop_through(const SearchContext& ctx, const LoopTables& tables, std::vector<SearchWorkspaces>& pool,
+                       const ResolvedAnchor& anchor, const LoopSearchOptions& options) {
+  std::vector<Loop> loops = find_loops(ctx, tables, pool, {anchor}, 1, options);
   if (loops.empty()) throw InputError("no loop can pass through this point with the current constraints");
   return loops.front();
 }

@@ -65,6 +65,15 @@ struct LoopSearchOptions {
 
 class SurfaceLocator;
 
+// What every query needs of the surface, computed once per session (not on
+// the hover path).
+struct LoopTables {
+  std::vector<bool> on_boundary;    // per vertex: on an open boundary (§5.7)
+  bool has_boundary = false;
+  double duplicate_tolerance = 0;   // loops whose vertices are all this close are one strip
+};
+LoopTables loop_tables(const Surface& surface, const ElasticaGraph& graph);
+
 // Project an anchor onto the surface and pick its candidates. Throws
 // InputError when the point is farther than max_distance from the surface, or
 // when the mask leaves the anchor no candidate.
@@ -75,12 +84,12 @@ ResolvedAnchor resolve_anchor(const SearchContext& ctx, const SurfaceLocator& lo
 void evaluate_loop(const ElasticaGraph& graph, Loop& loop);
 
 // `pool` holds one scratch space per thread the search may use (one or two).
-std::vector<Loop> find_loops(const SearchContext& ctx, std::vector<SearchWorkspaces>& pool,
+std::vector<Loop> find_loops(const SearchContext& ctx, const LoopTables& tables, std::vector<SearchWorkspaces>& pool,
                              const std::vector<ResolvedAnchor>& anchors, int count,
                              const LoopSearchOptions& options = {});
 
-Loop best_loop_through(const SearchContext& ctx, std::vector<SearchWorkspaces>& pool, const ResolvedAnchor& anchor,
-                       const LoopSearchOptions& options = {});
+Loop best_loop_through(const SearchContext& ctx, const LoopTables& tables, std::vector<SearchWorkspaces>& pool,
+                       const ResolvedAnchor& anchor, const LoopSearchOptions& options = {});
 
 // Two loops are the same strip when either is a reversed copy of the other or
 // every vertex of each lies within `tolerance` of the other (normalized units).

@@ -14,6 +14,7 @@ LoopSession::LoopSession(std::shared_ptr<const Surface> surface, const ElasticaP
   const auto start = std::chrono::steady_clock::now();
   graph_ = build_elastica_graph(*surface_, params, progress);
   locator_ = std::make_unique<SurfaceLocator>(surface_->mesh);
+  tables_ = loop_tables(*surface_, graph_);
   set_threads(static_cast<int>(std::min(2u, std::max(1u, std::thread::hardware_concurrency()))));
   build_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
@@ -47,7 +48,7 @@ std::vector<Loop> LoopSession::loops(const std::vector<Anchor>& anchors, int cou
     LoopSearchOptions options;
     options.algorithm = algorithm;
     options.allow_open = allow_open;
-    std::vector<Loop> result = find_loops(ctx, workspaces_, resolved, count, options);
+    std::vector<Loop> result = find_loops(ctx, tables_, workspaces_, resolved, count, options);
     if (result.empty())
       throw InputError("no loop can meet these constraints: the anchors cannot be joined by a compatible loop");
     return result;
@@ -62,7 +63,7 @@ Loop LoopSession::best_loop(const Vec3& point, bool allow_open) {
     LoopSearchOptions options;
     options.algorithm = algorithm;
     options.allow_open = allow_open;
-    return best_loop_through(ctx, workspaces_, resolved, options);
+    return best_loop_through(ctx, tables_, workspaces_, resolved, options);
   });
 }
 

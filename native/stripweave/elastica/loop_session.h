@@ -63,6 +63,7 @@ class LoopSession {
   std::shared_ptr<const Surface> surface_;
   ElasticaGraph graph_;
   std::unique_ptr<SurfaceLocator> locator_;
+  LoopTables tables_;
   std::vector<std::uint8_t> disabled_;
   std::vector<SearchWorkspaces> workspaces_;  // one per search thread
   std::mutex query_mutex_;
