@@ -78,6 +78,17 @@ def test_hover_is_exact_whatever_the_pruning(torus_session):
     assert torus_session.best_loop((13, 0, 0))["length"] == pytest.approx(2 * math.pi * 3, rel=0.02)
 
 
+def test_hover_searching_half_the_directions_finds_the_best_over_all_directions(torus_session):
+    """Hover searches only the directions in [0, pi + max turn]: every loop's reversed copy
+    leaves there. The alternatives search every direction; their cheapest must cost the same."""
+    surf = torus_session.surface
+    rng = np.random.default_rng(5)
+    for i in rng.choice(len(surf.vertices), size=4, replace=False):
+        p = tuple(surf.vertices[i])
+        every = torus_session.loops([p], alternatives=100)
+        assert torus_session.best_loop(p)["cost"] == pytest.approx(min(l["cost"] for l in every), rel=1e-9)
+
+
 # --- sphere, cylinder, cube --------------------------------------------------------
 
 def test_sphere_great_circle():

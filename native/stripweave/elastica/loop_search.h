@@ -48,6 +48,7 @@ struct ResolvedAnchor {
   Index vertex = kInvalid;
   double distance = 0;            // from the anchor point to the surface
   std::vector<Index> candidates;  // xi
+  bool all_directions = false;    // positional: xi is every enabled outgoing node
 };
 
 struct Loop {

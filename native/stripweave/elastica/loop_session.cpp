@@ -36,7 +36,7 @@ auto LoopSession::run_query(F&& query) {
   if (generation_.load() != mine) throw Cancelled();
   SearchContext ctx{*surface_, graph_, disabled_, [this, mine] {
                       if (generation_.load() != mine) throw Cancelled();
-                    }};
+                    }, mask_symmetric_};
   return query(ctx);
 }
 
@@ -83,12 +83,16 @@ void LoopSession::set_disabled(const std::vector<Index>& nodes, bool disabled) {
     if (n < 0 || n >= graph_.num_nodes()) throw InputError("node id " + std::to_string(n) + " is not in the graph");
     disabled_[n] = disabled ? 1 : 0;
   }
+  mask_symmetric_ = true;
+  for (Index n = 0; n < graph_.num_nodes() && mask_symmetric_; ++n)
+    mask_symmetric_ = disabled_[n] == disabled_[graph_.reverse[n]];
 }
 
 void LoopSession::clear_disabled() {
   ++generation_;
   std::lock_guard<std::mutex> lock(query_mutex_);
   disabled_.clear();
+  mask_symmetric_ = true;
 }
 
 }  // namespace stripweave

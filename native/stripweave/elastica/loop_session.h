@@ -65,6 +65,7 @@ class LoopSession {
   std::unique_ptr<SurfaceLocator> locator_;
   LoopTables tables_;
   std::vector<std::uint8_t> disabled_;
+  bool mask_symmetric_ = true;
   std::vector<SearchWorkspaces> workspaces_;  // one per search thread
   std::mutex query_mutex_;
   std::atomic<std::uint64_t> generation_{0};

@@ -87,6 +87,9 @@ struct SearchContext {
   const ElasticaGraph& graph;
   const std::vector<std::uint8_t>& disabled;  // per node; empty = none
   std::function<void()> check_cancel;         // may throw Cancelled
+  // disabled[n] == disabled[reverse[n]] for every n: then every loop's
+  // reversed copy is a loop of the same cost (g' is symmetric).
+  bool mask_symmetric = true;
   bool is_disabled(Index n) const { return !disabled.empty() && disabled[n]; }
 };
 
