@@ -229,4 +229,7 @@ PYBIND11_MODULE(_stripweave, m) {
       }, py::arg("path"), py::arg("vertices"), py::arg("triangles"));
 
   stripweave_python::bind_loops(m);
+  stripweave_python::bind_field(m);
+  stripweave_python::bind_param(m);
+  stripweave_python::bind_design(m);
 }

@@ -1,0 +1,6 @@
+// Bindings: see bind.h.
+#include "bind.h"
+
+namespace stripweave_python {
+void bind_design(pybind11::module_& m) {}
+}  // namespace stripweave_python
