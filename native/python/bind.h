@@ -1,9 +1,17 @@
 // The parts of the _stripweave module, one file per pipeline stage.
 #pragma once
 
+#include "stripweave/elastica/loop_session.h"
+
 #include <pybind11/pybind11.h>
 
 namespace stripweave_python {
+// Shared by the stage bindings (defined in bind_loops.cpp).
+// An anchor as (x, y, z) or (x, y, z, dx, dy, dz) in model units.
+stripweave::Anchor anchor_from(const stripweave::Surface& s, const std::vector<double>& a);
+// An embedded path as a dict: points (model units), vertex, edge, t, node_start, length.
+pybind11::dict path_dict(const stripweave::Surface& s, const stripweave::SurfacePath& p);
+
 void bind_loops(pybind11::module_& m);
 void bind_field(pybind11::module_& m);   // cross field (paper §6.1)
 void bind_param(pybind11::module_& m);   // global parameterization (§6.1)

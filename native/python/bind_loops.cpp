@@ -22,6 +22,8 @@ Vec3 vec3(const std::vector<double>& v, const char* what) {
   return {v[0], v[1], v[2]};
 }
 
+}  // namespace
+
 // An anchor as (x, y, z) or (x, y, z, dx, dy, dz), model units.
 Anchor anchor_from(const Surface& s, const std::vector<double>& a) {
   if (a.size() != 3 && a.size() != 6) throw InputError("an anchor is X,Y,Z or X,Y,Z,DX,DY,DZ");
@@ -55,8 +57,6 @@ py::dict path_dict(const Surface& s, const SurfacePath& p) {
   d["length"] = length;
   return d;
 }
-
-}  // namespace
 
 void bind_loops(py::module_& m) {
   py::enum_<BoundaryMode>(m, "BoundaryMode")

@@ -3,6 +3,9 @@
     stripweave info MODEL [--json]       the surface report
     stripweave loop MODEL --anchor X,Y,Z[,DX,DY,DZ] [--anchor ...] [--alternatives K]
                     [--boundary aligned|trimmed] [--json]   elastica loops through anchors
+                    [--design D.json]   ... compatible with the design's strips (§6.2)
+    stripweave strips MODEL --design D.json --out DIR [--json]
+                                         cross field, parameterization and strips -> DIR/strips.json
     stripweave bench MODEL [--repeat N]  stage timings and sizes, JSON
 
 MODEL is STEP/STP, IGES/IGS, BREP/BRP, STL, OBJ, OFF, PLY, or an FCStd with
@@ -17,14 +20,16 @@ def _add_surface_options(p):
     g = p.add_argument_group("surface options")
     g.add_argument("--target-triangles", type=int, default=30000,
                    help="size of the solver mesh (0 keeps the tessellation or input mesh)")
-    g.add_argument("--feature-angle", type=float, default=30.0,
-                   help="dihedral angle in degrees above which an edge is a sharp feature")
+    g.add_argument("--feature-angle", type=float, default=None,
+                   help="dihedral angle in degrees above which an edge is a sharp feature (default 30, "
+                        "or the design's)")
     g.add_argument("--deflection", type=float, default=0.0,
                    help="B-rep chordal deflection in model units (default: 1e-3 of the diagonal)")
 
 
 def _surface_options(args):
-    return {"target_triangles": args.target_triangles, "feature_angle_deg": args.feature_angle,
+    return {"target_triangles": args.target_triangles,
+            "feature_angle_deg": 30.0 if args.feature_angle is None else args.feature_angle,
             "deflection": args.deflection}
 
 
@@ -40,13 +45,37 @@ def cmd_info(args):
     return 0
 
 
+def _surface_options_for(args, design):
+    """Surface options: the command line's, except the feature angle a design was made with
+    when the command line leaves it at its default."""
+    options = _surface_options(args)
+    if design is not None and args.feature_angle is None:
+        options["feature_angle_deg"] = design.options["feature_angle_deg"]
+    return options
+
+
+def _design_session(args, surface, design):
+    from .strips import DesignSession
+    if args.boundary is not None:
+        design.options["boundary"] = args.boundary
+    return DesignSession(surface, design)
+
+
 def cmd_loop(args):
+    from .design import Design
     from .loops import LoopSession, parse_anchor, timed
     from .surface import load
     anchors = [parse_anchor(a) for a in args.anchor]
-    surface = load(args.model, **_surface_options(args))
-    session = LoopSession(surface, boundary=args.boundary)
-    loops, ms = timed(session.loops, anchors, alternatives=args.alternatives)
+    design = Design.load(args.design) if args.design else None
+    surface = load(args.model, **_surface_options_for(args, design))
+    if design is not None:
+        session = _design_session(args, surface, design)
+        loops, ms = timed(session.loops, anchors, alternatives=args.alternatives)
+        stats = session.loop_session.stats()
+    else:
+        session = LoopSession(surface, boundary=args.boundary or "aligned")
+        loops, ms = timed(session.loops, anchors, alternatives=args.alternatives)
+        stats = session.stats()
     keys = ("cost", "length", "closed", "points", "max_turn_deg", "length_term", "alignment_term", "curvature_term")
     if args.json:
         print(json.dumps({"loops": [{k: loop[k] for k in keys} for loop in loops], "time_ms": ms}))
@@ -57,7 +86,43 @@ def cmd_loop(args):
                   f"(length {loop['length_term']:.4g}, alignment {loop['alignment_term']:.4g}, "
                   f"curvature {loop['curvature_term']:.4g}), max turn {loop['max_turn_deg']:.1f} deg, "
                   f"{len(loop['points'])} points")
-        print(f"search took {ms:.1f} ms (graph built in {session.stats()['graph_build_s']:.2f} s)")
+        print(f"search took {ms:.1f} ms (graph built in {stats['graph_build_s']:.2f} s)")
+    return 0
+
+
+def cmd_strips(args):
+    import os
+    from .design import Design
+    from .surface import load
+    design = Design.load(args.design)
+    surface = load(args.model, **_surface_options_for(args, design))
+    session = _design_session(args, surface, design)
+    result = session.strips_json()
+    os.makedirs(args.out, exist_ok=True)
+    path = os.path.join(args.out, "strips.json")
+    with open(path, "w", encoding="utf-8") as f:
+        json.dump(result, f)
+    if args.json:
+        print(json.dumps({k: v for k, v in result.items() if k != "strips"} |
+                         {"strips": [{k: v for k, v in s.items() if k != "points"} for s in result["strips"]],
+                          "path": path}))
+        return 0
+    for i, s in enumerate(result["strips"]):
+        kind = "loop" if s["closed"] else "open curve"
+        print(f"strip {i + 1}: {kind} of length {s['length']:.6g}, width {s['width_left']:.4g} left "
+              f"({s['stop_left']}) + {s['width_right']:.4g} right ({s['stop_right']}), "
+              f"covers {100 * s['area_fraction']:.1f}% of the surface")
+    quarters = {}
+    for x in result["singularities"]:
+        quarters[x["index"]] = quarters.get(x["index"], 0) + 1
+    listed = ", ".join(f"{n} of index {i:+g}" for i, n in sorted(quarters.items())) or "none"
+    print(f"singularities: {listed} (sum {result['index_sum']:g}, Euler characteristic "
+          f"{result['euler_characteristic']})")
+    print(f"fold-overs: {result['fold_overs']}")
+    t = result["timings_ms"]
+    print(f"loops {t['loops']:.0f} ms, field {t['field']:.0f} ms, parameterization {t['parameterization']:.0f} ms, "
+          f"extraction {t['extraction']:.0f} ms")
+    print(f"wrote {path}")
     return 0
 
 
@@ -83,11 +148,23 @@ def build_parser():
     p.add_argument("--anchor", action="append", required=True, metavar="X,Y,Z[,DX,DY,DZ]",
                    help="a point the loop passes, optionally with its tangent; repeat for more, in order")
     p.add_argument("--alternatives", type=int, default=1, help="how many distinct loops to list")
-    p.add_argument("--boundary", choices=("aligned", "trimmed"), default="aligned",
-                   help="dual curves meet open boundaries orthogonally (aligned) or at any angle (trimmed)")
+    p.add_argument("--boundary", choices=("aligned", "trimmed"), default=None,
+                   help="dual curves meet open boundaries orthogonally (aligned, the default) or at any "
+                        "angle (trimmed); with --design, the design's mode unless given")
+    p.add_argument("--design", metavar="D.json", help="only loops compatible with this design's strips")
     p.add_argument("--json", action="store_true", help="machine-readable output")
     _add_surface_options(p)
     p.set_defaults(run=cmd_loop)
+
+    p = sub.add_parser("strips", help="cross field, parameterization and strips of a design (paper §6)")
+    p.add_argument("model")
+    p.add_argument("--design", metavar="D.json", required=True, help="the design file")
+    p.add_argument("--out", metavar="DIR", required=True, help="folder for strips.json")
+    p.add_argument("--boundary", choices=("aligned", "trimmed"), default=None,
+                   help="override the design's boundary mode")
+    p.add_argument("--json", action="store_true", help="machine-readable summary")
+    _add_surface_options(p)
+    p.set_defaults(run=cmd_strips)
 
     p = sub.add_parser("bench", help="time every pipeline stage (JSON)")
     p.add_argument("model")

@@ -1,1 +1,136 @@
-// in progress
+// DesignState (see design_state.h).
+#include "stripweave/strips/design_state.h"
+
+#include "stripweave/core/error.h"
+#include "stripweave/core/stopwatch.h"
+
+#include <algorithm>
+
+namespace stripweave {
+
+bool StripSpec::operator==(const StripSpec& o) const {
+  if (anchors.size() != o.anchors.size()) return false;
+  for (size_t i = 0; i < anchors.size(); ++i)
+    if (anchors[i].point != o.anchors[i].point || anchors[i].direction != o.anchors[i].direction) return false;
+  return true;
+}
+
+LoopPath loop_path(const LoopSession& session, const Loop& loop) {
+  LoopPath p;
+  p.path = session.embed(loop);
+  p.closed = loop.closed;
+  p.segments = path_segments(session.surface(), p.path, loop.closed);
+  return p;
+}
+
+DesignState::DesignState(std::shared_ptr<LoopSession> session, const FieldOptions& options)
+    : session_(std::move(session)), options_(options) {}
+
+DesignState::Solved DesignState::solve(const std::vector<LoopPath>& paths, DesignTimings* timings) const {
+  const Surface& s = session_->surface();
+  Solved out;
+  std::vector<std::vector<PathSegment>> segments;
+  for (const LoopPath& p : paths) segments.push_back(p.segments);
+  StageTimings laps;
+  Stopwatch clock(laps);
+  out.field = compute_cross_field(s, loop_constraints(segments), options_);
+  clock.lap("field");
+  out.param = parameterize(s, out.field, paths);
+  clock.lap("parameterization");
+  for (Index l = 0; l < static_cast<Index>(paths.size()); ++l)
+    out.strips.push_back(extract_strip(s, out.field, out.param, paths, l));
+  clock.lap("extraction");
+  if (timings) {
+    timings->field_ms = laps[0].second;
+    timings->param_ms = laps[1].second;
+    timings->extraction_ms = laps[2].second;
+  }
+  return out;
+}
+
+void DesignState::set_strips(const std::vector<StripSpec>& specs) {
+  // Keep the unchanged prefix: its loops and masks do not depend on later strips.
+  size_t keep = 0;
+  while (keep < specs.size() && keep < strips_.size() && specs[keep] == strips_[keep].spec) ++keep;
+  strips_.resize(keep);
+  prefix_mask_.resize(keep);
+
+  const Surface& s = session_->surface();
+  double loops_ms = 0;
+  std::vector<LoopPath> paths;
+  for (const DesignStrip& d : strips_) paths.push_back(d.path);
+  for (size_t i = keep; i < specs.size(); ++i) {
+    // The mask of strips 0..i-1, each extracted from the design so far.
+    std::vector<Index> mask;
+    if (i > 0) {
+      const Solved prefix = solve(paths, nullptr);
+      for (const Strip& st : prefix.strips) {
+        const std::vector<Index> nodes = incompatible_nodes(s, session_->graph(), st);
+        mask.insert(mask.end(), nodes.begin(), nodes.end());
+      }
+      std::sort(mask.begin(), mask.end());
+      mask.erase(std::unique(mask.begin(), mask.end()), mask.end());
+    }
+    session_->clear_disabled();
+    if (!mask.empty()) session_->set_disabled(mask, true);
+    StageTimings laps;
+    Stopwatch clock(laps);
+    std::vector<Loop> found;
+    try {
+      if (specs[i].anchors.empty()) throw InputError("it has no anchor");
+      found = session_->loops(specs[i].anchors, 1);
+      if (found.empty()) throw InputError("no loop can pass its anchors with the current constraints");
+    } catch (const InputError& e) {
+      // Keep a consistent state: the strips before this one, fully derived.
+      session_->clear_disabled();
+      strips_.resize(i);
+      prefix_mask_.resize(i);
+      finish(paths, loops_ms);
+      throw InputError("strip " + std::to_string(i + 1) + ": " + e.what());
+    }
+    clock.lap("loop");
+    loops_ms += laps.back().second;
+    DesignStrip d;
+    d.spec = specs[i];
+    d.loop = std::move(found.front());
+    d.path = loop_path(*session_, d.loop);
+    paths.push_back(d.path);
+    strips_.push_back(std::move(d));
+    prefix_mask_.push_back(std::move(mask));
+  }
+  session_->clear_disabled();
+  finish(paths, loops_ms);
+}
+
+void DesignState::finish(const std::vector<LoopPath>& paths, double loops_ms) {
+  timings_ = {};
+  timings_.loops_ms = loops_ms;
+  if (paths.empty()) {
+    field_ = {};
+    param_ = {};
+    return;
+  }
+  Solved all = solve(paths, &timings_);
+  field_ = std::move(all.field);
+  param_ = std::move(all.param);
+  for (size_t i = 0; i < strips_.size(); ++i) strips_[i].strip = std::move(all.strips[i]);
+}
+
+std::vector<Index> DesignState::disabled_nodes() const {
+  std::vector<Index> mask;
+  for (const DesignStrip& d : strips_) {
+    const std::vector<Index> nodes = incompatible_nodes(session_->surface(), session_->graph(), d.strip);
+    mask.insert(mask.end(), nodes.begin(), nodes.end());
+  }
+  std::sort(mask.begin(), mask.end());
+  mask.erase(std::unique(mask.begin(), mask.end()), mask.end());
+  return mask;
+}
+
+void DesignState::apply_mask() {
+  const std::vector<Index> mask = disabled_nodes();
+  session_->clear_disabled();
+  if (!mask.empty()) session_->set_disabled(mask, true);
+}
+
+}  // namespace stripweave

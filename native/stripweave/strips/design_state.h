@@ -1,0 +1,88 @@
+// DesignState: everything derived from a design (paper §4.1, §6).
+//
+// A design is an ordered list of strips, each given by its anchors (the
+// truth the user edits and the file stores); its loop is derived. Given the
+// strips, DesignState derives, in order:
+//   loops      strip i's loop is the best loop through its anchors under the
+//              compatibility mask of strips 0..i-1 (§6.2): it crosses every
+//              earlier strip transversally and never repeats one;
+//   field      the cross field constrained by all loops (and by features and
+//              aligned boundaries, cross_field.h), with its singularities;
+//   S          the global parameterization in which every loop is an
+//              isocurve (parameterization.h);
+//   strips     per loop, the strip it owns (strip_extraction.h);
+//   mask       the union of the strips' incompatible g' nodes, which
+//              apply_mask() hands to the LoopSession for the next loop.
+// Editing (set_strips) recomputes from the first strip that changed: the
+// loops before it, and the masks they imply, are kept. Each strip i > 0 costs
+// one field and parameterization solve over loops 0..i-1 (its mask), and the
+// full design one more.
+// Errors: InputError naming the strip ("strip 3: ...") for an anchor off
+// the surface or constraints no loop can meet.
+#pragma once
+
+#include "stripweave/elastica/loop_session.h"
+#include "stripweave/strips/compatibility.h"
+
+#include <memory>
+
+namespace stripweave {
+
+struct StripSpec {
+  std::vector<Anchor> anchors;  // normalized units
+  bool operator==(const StripSpec& o) const;
+};
+
+struct DesignStrip {
+  StripSpec spec;
+  Loop loop;
+  LoopPath path;
+  Strip strip;
+};
+
+struct DesignTimings {
+  double loops_ms = 0, field_ms = 0, param_ms = 0, extraction_ms = 0;
+};
+
+class DesignState {
+ public:
+  DesignState(std::shared_ptr<LoopSession> session, const FieldOptions& options = {});
+
+  void set_strips(const std::vector<StripSpec>& specs);
+  const std::vector<DesignStrip>& strips() const { return strips_; }
+  const CrossField& field() const { return field_; }
+  const Parameterization& parameterization() const { return param_; }
+  // The final solve and extraction over the whole design (not the prefixes).
+  const DesignTimings& timings() const { return timings_; }
+
+  // The compatibility mask of all strips, sorted node ids.
+  std::vector<Index> disabled_nodes() const;
+  // Hand that mask to the session (replacing its mask), for new loops.
+  void apply_mask();
+
+  LoopSession& session() { return *session_; }
+  const Surface& surface() const { return session_->surface(); }
+
+ private:
+  struct Solved {
+    CrossField field;
+    Parameterization param;
+    std::vector<Strip> strips;
+  };
+  Solved solve(const std::vector<LoopPath>& paths, DesignTimings* timings) const;
+  // Derive field, S and strips of the whole design (the loops are known).
+  void finish(const std::vector<LoopPath>& paths, double loops_ms);
+
+  std::shared_ptr<LoopSession> session_;
+  FieldOptions options_;
+  std::vector<DesignStrip> strips_;
+  std::vector<std::vector<Index>> prefix_mask_;  // [i]: the mask strip i's loop was searched under
+  CrossField field_;
+  Parameterization param_;
+  DesignTimings timings_;
+};
+
+// The loop path of a loop: embedded and cut into per-triangle segments.
+LoopPath loop_path(const LoopSession& session, const Loop& loop);
+
+}  // namespace stripweave

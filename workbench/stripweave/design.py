@@ -1,0 +1,196 @@
+"""Designs and the design file (`design.json`, see ../shared/design.md; paper §4.1).
+
+A design is an ordered list of strips. Each strip is its anchors (points the
+loop passes, with or without a tangent direction), in model units; its loop is
+derived by the loop search, never stored as truth. So a design survives
+re-tessellation: loading it onto a model re-projects the anchors.
+
+    d = Design.load("design.json")
+    d.add_strip([(5, 5, 10, 1, 0, 0)])
+    d.remove_strip(0)
+    d.save("design.json")
+
+The file format:
+    {"format": "stripweave-design", "version": 1,
+     "model": {"path": ..., "bbox_diagonal": ...},
+     "options": {"k": 4, "max_turn_deg": 30, "alpha": 1.0, "beta": 0.25,
+                 "boundary": "aligned", "feature_angle_deg": 30},
+     "strips": [{"anchors": [{"point": [x, y, z], "direction": [dx, dy, dz] | null}],
+                 "closed": true}]}
+Only format, version and strips are required; missing options take the
+defaults above. Keys this version does not know are kept on save, at every
+level (a newer tool's additions survive an edit here).
+"""
+import copy
+import json
+import math
+
+from ._native import native
+
+FORMAT = "stripweave-design"
+VERSION = 1
+DEFAULT_OPTIONS = {"k": 4, "max_turn_deg": 30, "alpha": 1.0, "beta": 0.25, "boundary": "aligned",
+                   "feature_angle_deg": 30}
+# The options the loop search takes (the rest belong to the surface stage).
+LOOP_OPTIONS = ("k", "max_turn_deg", "alpha", "beta", "boundary")
+
+
+def _error(where, what):
+    return native.InputError(f"design file{where}: {what}")
+
+
+def _vector(value, where, what):
+    if not isinstance(value, (list, tuple)) or len(value) != 3:
+        raise _error(where, f"{what} must be a list of three numbers, got {value!r}")
+    try:
+        v = [float(x) for x in value]
+    except (TypeError, ValueError):
+        raise _error(where, f"{what} must be a list of three numbers, got {value!r}") from None
+    if not all(math.isfinite(x) for x in v):
+        raise _error(where, f"{what} has a NaN or infinite coordinate")
+    return v
+
+
+class Anchor:
+    """A point the loop passes, optionally with its tangent there (sign irrelevant)."""
+
+    def __init__(self, point, direction=None, extra=None):
+        self.point = [float(x) for x in point]
+        self.direction = None if direction is None else [float(x) for x in direction]
+        self.extra = dict(extra or {})
+
+    @classmethod
+    def of(cls, value):
+        """An Anchor from an Anchor, (x,y,z) or (x,y,z,dx,dy,dz)."""
+        if isinstance(value, Anchor):
+            return value
+        value = list(value)
+        if len(value) == 3:
+            return cls(value)
+        if len(value) == 6:
+            return cls(value[:3], value[3:])
+        raise native.InputError(f"an anchor is (x, y, z) or (x, y, z, dx, dy, dz), got {value!r}")
+
+    def to_list(self):
+        return self.point + (self.direction or [])
+
+    def to_dict(self):
+        return {**self.extra, "point": list(self.point), "direction": None if self.direction is None else list(self.direction)}
+
+    def __repr__(self):
+        return f"Anchor({self.point}, {self.direction})"
+
+
+class Strip:
+    """A strip as its anchors; `closed` is what the loop search decided (None until then)."""
+
+    def __init__(self, anchors, closed=None, extra=None):
+        self.anchors = [Anchor.of(a) for a in anchors]
+        if not self.anchors:
+            raise native.InputError("a strip needs at least one anchor")
+        self.closed = closed
+        self.extra = dict(extra or {})
+
+    def to_dict(self):
+        d = {**self.extra, "anchors": [a.to_dict() for a in self.anchors]}
+        if self.closed is not None:
+            d["closed"] = bool(self.closed)
+        return d
+
+
+class Design:
+    """An ordered list of strips, with the loop options and the model it was made on."""
+
+    def __init__(self, strips=(), options=None, model=None, extra=None):
+        self.strips = [s if isinstance(s, Strip) else Strip(s) for s in strips]
+        self.options = {**DEFAULT_OPTIONS, **(options or {})}
+        self.model = dict(model or {})
+        self.extra = dict(extra or {})
+
+    # --- editing -----------------------------------------------------------
+    def add_strip(self, anchors):
+        self.strips.append(Strip(anchors))
+        return len(self.strips) - 1
+
+    def remove_strip(self, index):
+        del self.strips[index]
+
+    def edit_strip(self, index, anchors):
+        self.strips[index] = Strip(anchors, extra=self.strips[index].extra)
+
+    def anchor_lists(self):
+        """Per strip, its anchors as (x,y,z[,dx,dy,dz]) lists: what the native design takes."""
+        return [[a.to_list() for a in s.anchors] for s in self.strips]
+
+    def loop_options(self):
+        return {k: self.options[k] for k in LOOP_OPTIONS}
+
+    def copy(self):
+        return copy.deepcopy(self)
+
+    # --- the file ------------------------------------------------------------
+    @classmethod
+    def from_dict(cls, data):
+        if not isinstance(data, dict):
+            raise _error("", "the top level must be a JSON object")
+        if data.get("format") != FORMAT:
+            raise _error("", f"'format' must be '{FORMAT}', got {data.get('format')!r}")
+        if not isinstance(data.get("version"), int) or data["version"] < 1:
+            raise _error("", f"'version' must be a positive integer, got {data.get('version')!r}")
+        if data["version"] > VERSION:
+            raise _error("", f"version {data['version']} is newer than this StripWeave reads ({VERSION})")
+        if not isinstance(data.get("strips"), list):
+            raise _error("", "'strips' must be a list")
+        options = data.get("options", {}) or {}
+        if not isinstance(options, dict):
+            raise _error("", "'options' must be an object")
+        boundary = options.get("boundary", DEFAULT_OPTIONS["boundary"])
+        if boundary not in ("aligned", "trimmed"):
+            raise _error("", f"options.boundary must be 'aligned' or 'trimmed', got {boundary!r}")
+        for key in ("k", "max_turn_deg", "alpha", "beta", "feature_angle_deg"):
+            if key in options and not isinstance(options[key], (int, float)):
+                raise _error("", f"options.{key} must be a number, got {options[key]!r}")
+        strips = []
+        for i, s in enumerate(data["strips"]):
+            where = f", strip {i + 1}"
+            if not isinstance(s, dict) or not isinstance(s.get("anchors"), list) or not s["anchors"]:
+                raise _error(where, "a strip needs a non-empty 'anchors' list")
+            anchors = []
+            for j, a in enumerate(s["anchors"]):
+                at = f"{where}, anchor {j + 1}"
+                if not isinstance(a, dict) or "point" not in a:
+                    raise _error(at, "an anchor needs a 'point'")
+                point = _vector(a["point"], at, "point")
+                direction = a.get("direction")
+                if direction is not None:
+                    direction = _vector(direction, at, "direction")
+                    if not any(direction):
+                        raise _error(at, "direction must not be zero (use null for a positional anchor)")
+                anchors.append(Anchor(point, direction, {k: v for k, v in a.items() if k not in ("point", "direction")}))
+            closed = s.get("closed")
+            strips.append(Strip(anchors, closed if isinstance(closed, bool) else None,
+                                {k: v for k, v in s.items() if k not in ("anchors", "closed")}))
+        return cls(strips, options, data.get("model"),
+                   {k: v for k, v in data.items() if k not in ("format", "version", "model", "options", "strips")})
+
+    def to_dict(self):
+        return {**self.extra, "format": FORMAT, "version": VERSION, "model": dict(self.model),
+                "options": dict(self.options), "strips": [s.to_dict() for s in self.strips]}
+
+    @classmethod
+    def load(cls, path):
+        try:
+            with open(path, encoding="utf-8") as f:
+                data = json.load(f)
+        except json.JSONDecodeError as exc:
+            raise native.InputError(f"design file {path} is not valid JSON: {exc}") from None
+        return cls.from_dict(data)
+
+    def save(self, path):
+        # Write to a temporary file first: a failed save never destroys the user's design.
+        import os
+        tmp = f"{path}.tmp"
+        with open(tmp, "w", encoding="utf-8") as f:
+            json.dump(self.to_dict(), f, indent=2)
+            f.write("\n")
+        os.replace(tmp, path)
