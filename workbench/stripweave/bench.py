@@ -93,8 +93,51 @@ def bench_loops(surface, hover_points=50, anchor_pairs=10, boundary="aligned"):
     return result
 
 
-def run_bench(path, repeat=3, loops=True, **options):
+def bench_strips(surface, loop_session=None, strips=6, repeat=3, seed=3):
+    """Cross field, parameterization and strip extraction for a design of several strips.
+
+    The design is grown as a user would: at seeded random points, the best loop compatible
+    with the strips so far (points where no compatible loop passes are skipped). The design
+    is then re-derived `repeat` times; field_ms is the cross-field solve, param_ms the
+    parameterization plus the extraction of every strip."""
+    from ._native import native
+    from .strips import DesignSession
+    session = DesignSession(surface, loop_session=loop_session)
+    tried = 0
+    for p in random_surface_points(surface, 8 * strips, seed=seed):
+        if len(session.design.strips) >= strips:
+            break
+        tried += 1
+        try:
+            session.add_strip([tuple(p)])
+        except native.InputError:
+            pass
+    field, param, extraction = [], [], []
+    for _ in range(max(1, repeat)):
+        session.native.set_strips(session.design.anchor_lists())
+        t = session.timings_ms()
+        field.append(t["field"])
+        param.append(t["parameterization"] + t["extraction"])
+        extraction.append(t["extraction"])
+    result = session.strips_json()
+    return {
+        "design_strips": len(session.design.strips),
+        "design_points_tried": tried,
+        "singularities": len(result["singularities"]),
+        "index_sum": result["index_sum"],
+        "euler_characteristic": result["euler_characteristic"],
+        "fold_overs": result["fold_overs"],
+        "strip_area_fraction": [round(s["area_fraction"], 4) for s in result["strips"]],
+        "field_ms": summary(field),
+        "param_ms": summary(param),
+        "extraction_ms": summary(extraction),
+    }
+
+
+def run_bench(path, repeat=3, loops=True, strips=True, **options):
     surface, result = bench_surface(path, repeat=repeat, **options)
     if loops:
         result.update(bench_loops(surface))
+        if strips:
+            result.update(bench_strips(surface, repeat=repeat))
     return result

@@ -24,6 +24,7 @@ level (a newer tool's additions survive an edit here).
 import copy
 import json
 import math
+import os
 
 from ._native import native
 
@@ -188,9 +189,13 @@ class Design:
 
     def save(self, path):
         # Write to a temporary file first: a failed save never destroys the user's design.
-        import os
         tmp = f"{path}.tmp"
-        with open(tmp, "w", encoding="utf-8") as f:
-            json.dump(self.to_dict(), f, indent=2)
-            f.write("\n")
-        os.replace(tmp, path)
+        try:
+            with open(tmp, "w", encoding="utf-8") as f:
+                json.dump(self.to_dict(), f, indent=2)
+                f.write("\n")
+            os.replace(tmp, path)
+        except BaseException:
+            if os.path.exists(tmp):
+                os.remove(tmp)
+            raise
