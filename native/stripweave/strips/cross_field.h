@@ -13,9 +13,15 @@
 //             minimize sum over interior edges e=(t0,t1) of
 //               |u_t1 - exp(4 i rho_e) u_t0|^2,
 //           rho_e being the rotation from t0's frame to t1's across e (the
-//           discrete Levi-Civita connection). One sparse Hermitian solve.
+//           discrete Levi-Civita connection), plus a weak prior towards the
+//           principal curvature directions, weighted by the squared
+//           anisotropy (options.curvature; it keeps the field from wandering
+//           far from the constraints, and it is what fixes the field on a
+//           component without constraints; an umbilic one gets the
+//           smoothest unit field instead). One sparse Hermitian solve.
 //   Output (indexed by element):
 //     frame_x[t]     unit tangent of triangle t's frame
+//     normal[t]      unit normal of that frame (the frame's y is normal x frame_x)
 //     theta[t]       the field's angle in that frame (one of four, in [0, pi/2))
 //     direction[t]   the unit 3D vector at theta[t]
 //     strength[t]    |u_t| in [0,1]: 1 where constrained, small near singularities
@@ -47,6 +53,7 @@ struct FieldConstraint {
 struct FieldOptions {
   bool features = true;  // feature curves constrain their triangles
   bool boundary = true;  // open boundaries constrain their triangles (aligned mode)
+  double curvature = 1.0;  // weight of the principal-direction prior, 0: purely harmonic (cross_field.cpp)
 };
 
 struct Singularity {
@@ -57,6 +64,7 @@ struct Singularity {
 
 struct CrossField {
   std::vector<Vec3> frame_x;
+  std::vector<Vec3> normal;
   std::vector<double> theta;
   std::vector<Vec3> direction;
   std::vector<double> strength;
