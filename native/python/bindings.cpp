@@ -232,4 +232,5 @@ PYBIND11_MODULE(_stripweave, m) {
   stripweave_python::bind_field(m);
   stripweave_python::bind_param(m);
   stripweave_python::bind_design(m);
+  stripweave_python::bind_regions(m);
 }
