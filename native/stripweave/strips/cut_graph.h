@@ -45,7 +45,7 @@
 //     wedge_vertex[w]    the mesh vertex of wedge w
 //     component[t]       the connected component of triangle t
 //     tree_root[c]       the root triangle of component c's dual tree
-//   Cost: linear in the mesh size (about 3 ms at 30K triangles).
+//   Cost: linear in the mesh size (a few ms at 30K triangles).
 #pragma once
 
 #include "stripweave/strips/cross_field.h"
