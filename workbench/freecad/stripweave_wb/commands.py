@@ -92,4 +92,6 @@ def register():
 
 register()
 
-COMMANDS = [PREPARE_SURFACE]
+from . import design_commands  # noqa: E402  (registers the design commands)
+
+COMMANDS = [PREPARE_SURFACE] + design_commands.COMMANDS

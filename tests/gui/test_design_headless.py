@@ -1,0 +1,104 @@
+"""The Design object under freecadcmd (no GUI): a meridian strip on a torus
+becomes one closed wire of length 2 pi 3; undo/redo; a failing strip keeps
+the design; export/import; save/reopen.  ~15 s."""
+
+import glob
+import json
+import os
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[2]
+SCRIPT = REPO / "tests" / "gui" / "run_design_headless.py"
+
+
+@pytest.fixture(scope="module")
+def run(tmp_path_factory):
+    if shutil.which("freecadcmd") is None:
+        pytest.fail("freecadcmd is not installed")
+    build = Path(os.environ.get("STRIPWEAVE_BUILD") or REPO / "build")
+    if not glob.glob(str(build / "_stripweave*.so")):
+        pytest.fail("native module not built: no _stripweave*.so in {}".format(build))
+    tmp = tmp_path_factory.mktemp("design_headless")
+    home = tmp / "freecad_home"
+    (home / "Mod").mkdir(parents=True)
+    (home / "Mod" / "StripWeave").symlink_to(REPO / "workbench")
+    env = dict(os.environ, FREECAD_USER_HOME=str(home), STRIPWEAVE_BUILD=str(build),
+               STRIPWEAVE_HEADLESS_RESULT=str(tmp / "result.json"),
+               STRIPWEAVE_HEADLESS_WORKDIR=str(tmp))
+    proc = subprocess.run(["freecadcmd", str(SCRIPT)], env=env, cwd=str(tmp),
+                          capture_output=True, text=True, timeout=300)
+    out = tmp / "result.json"
+    assert out.is_file(), proc.stdout[-3000:] + proc.stderr[-3000:]
+    r = json.loads(out.read_text())
+    assert r["error"] is None, r["error"]
+    return r
+
+
+def test_empty_design_has_no_wires(run):
+    assert run["empty"]["wires"] == []
+    assert "Invalid" not in run["empty"]["state"]
+
+
+def test_meridian_strip_is_one_closed_wire(run):
+    m = run["meridian"]
+    assert len(m["wires"]) == 1
+    assert m["wires"][0]["closed"]
+    assert m["wires"][0]["length"] == pytest.approx(run["expected_length"], rel=0.02)
+    assert m["strip_count"] == 1 and "Invalid" not in m["state"]
+    assert m["undo_names"][0] == "Add strip"
+    assert m["derived_strips"] == 1 and m["stripe_vertices"] > 0
+    assert m["summary"]["strips"][0]["area_fraction"] == pytest.approx(1.0, abs=0.05)
+    assert m["summary"]["singularities"] == [] and m["summary"]["error"] is None
+
+
+def test_undo_removes_the_added_strip_and_redo_restores_it(run):
+    assert run["two"]["strips_in_json"] == 2 and len(run["two"]["wires"]) == 2
+    assert run["after_undo"]["strips_in_json"] == 1
+    assert run["after_undo"]["wires_after_recompute"] == 1
+    assert run["after_redo"] == {"strips_in_json": 2, "wires": 2}
+
+
+def test_incompatible_strip_is_refused_without_changing_the_document(run):
+    assert run["refused"] and "InputError" in run["refused"]
+    assert run["after_refusal"]["strips_in_json"] == 1
+    assert "Add strip" in run["after_refusal"]["undo_names"][0]
+
+
+def test_failing_strip_keeps_the_design_and_reports(run):
+    bad = run["bad"]
+    assert "Invalid" in bad["state"]
+    assert bad["strips_in_json"] == 2 and bad["unknown_key_kept"] == "kept"
+    assert bad["wires"] == 1 and bad["strip_count"] == 1          # what could be derived
+    assert bad["status"].startswith("error") and "strip 2" in bad["status"]
+    assert bad["summary_error"]
+    assert "Invalid" not in run["repaired_state"]
+
+
+def test_boundary_property_mirrors_the_json(run):
+    assert run["boundary_in_json"] == "trimmed"
+
+
+def test_features_flag_rederives_on_the_same_graph(run):
+    f = run["features_off"]
+    assert "Invalid" not in f["state"] and f["strip_count"] == 1
+    assert f["same_loop_engine"]
+
+
+def test_export_import_round_trip(run):
+    assert run["exported"]["strips"] == 1
+    assert run["exported"]["model"]["label"] == "Torus"
+    assert run["after_remove"] == 0
+    assert len(run["after_import"]["wires"]) == 1 and run["after_import"]["undo"] == "Import design"
+
+
+def test_reopened_document_keeps_design_and_rebuilds_session(run):
+    r = run["reopened"]
+    assert r["is_design"] and r["json_equal"]
+    assert len(r["wires"]) == 1 and r["wires"][0]["closed"]
+    assert not r["derived_before"] and r["derived_after"]
+    assert r["session_strips"] == 1
+    assert r["session_length"] == pytest.approx(run["expected_length"], rel=0.02)

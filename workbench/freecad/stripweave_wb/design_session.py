@@ -1,0 +1,259 @@
+"""The derived state of a Design object: a cached ``DesignSession`` and
+immutable snapshots of it for drawing.
+
+No document access and no Qt here, so every function may run on a worker
+thread.  One :class:`SessionCache` lives on each Design proxy; it owns the
+``stripweave.strips.DesignSession`` (loop engine, cross field,
+parameterization, strips, compatibility mask) and a lock that serialises
+every use of it: the GUI thread's recompute, the design tool's hover worker
+and the background derivation after a document is reopened all go through
+it.  Hover queries can be interrupted (a newer query wins, and an edit must
+not wait for a stale preview); edits and updates never are, because a
+cancelled update would leave the native state half-changed.
+
+After every change of the derived state the cache takes a :class:`Derived`
+snapshot (numpy arrays and plain values, in model units) that the view
+provider draws and the Design object publishes, so drawing never touches the
+native session.
+"""
+
+import json
+import threading
+
+import numpy as np
+
+from . import import_stripweave
+from .lift import NormalLift
+
+
+def design_key(design, features):
+    """What the derived state depends on besides the surface: the strips'
+    anchors, the options and the Features flag (JSON text, comparable)."""
+    return json.dumps([design.anchor_lists(), design.options, bool(features)], sort_keys=True)
+
+
+def loop_options_key(design):
+    """The options the loop engine (elastica graph) is built with: changing
+    them needs a new LoopSession (a graph build), the rest only an update."""
+    return json.dumps(design.loop_options(), sort_keys=True)
+
+
+class Derived:
+    """A snapshot of everything a design implies, for drawing and reports.
+
+    ``strips``: per strip a dict with ``points`` ((k,3) array, the loop),
+    ``closed``, ``length``, ``width_left``, ``width_right``,
+    ``area_fraction``, ``stop_left``, ``stop_right`` and ``across`` (per
+    solver-mesh vertex the signed distance from the loop inside the strip,
+    NaN outside).  ``lift``: moves points off the surface for drawing.  ``singularities``: list of ((x,y,z), index).  ``error``:
+    the InputError text when a strip failed (``strips`` then holds the ones
+    before it), else None.
+    """
+
+    def __init__(self, revision, key, vertices, normals, triangles, lift, strips, singularities,
+                 fold_overs, error, requested):
+        self.revision = revision
+        self.lift = lift  # NormalLift of the solver mesh (lift.py)
+        self.key = key
+        self.vertices = vertices
+        self.normals = normals
+        self.triangles = triangles
+        self.strips = strips
+        self.singularities = singularities
+        self.fold_overs = fold_overs
+        self.error = error
+        self.requested = requested  # number of strips in the design (>= len(strips))
+
+    def singularity_counts(self):
+        """{"+1/4": n, "-1/4": n, "other": n}."""
+        counts = {"+1/4": 0, "-1/4": 0, "other": 0}
+        for _pos, index in self.singularities:
+            if abs(index - 0.25) < 1e-6:
+                counts["+1/4"] += 1
+            elif abs(index + 0.25) < 1e-6:
+                counts["-1/4"] += 1
+            else:
+                counts["other"] += 1
+        return counts
+
+    def summary(self):
+        """JSON-safe digest (what the Design object stores in ``Summary``)."""
+        return {
+            "strips": [{k: (bool(s[k]) if k == "closed" else s[k]) for k in (
+                "closed", "length", "width_left", "width_right", "area_fraction", "stop_left", "stop_right")}
+                for s in self.strips],
+            "requested_strips": self.requested,
+            "singularities": [{"position": list(p), "index": i} for p, i in self.singularities],
+            "singularity_counts": self.singularity_counts(),
+            "fold_overs": self.fold_overs,
+            "error": self.error,
+        }
+
+
+def _strip_record(session, i, raw):
+    across = session.stripe_coordinates(i)[:, 1]
+    return {
+        "points": np.asarray(raw["points"], dtype=float).reshape(-1, 3),
+        "closed": bool(raw["closed"]),
+        "length": float(raw["length"]),
+        "width_left": float(raw["width_left"]),
+        "width_right": float(raw["width_right"]),
+        "area_fraction": float(raw["area_fraction"]),
+        "stop_left": str(raw.get("stop_left", "")),
+        "stop_right": str(raw.get("stop_right", "")),
+        "across": np.asarray(across, dtype=float),
+    }
+
+
+class SessionCache:
+    """A DesignSession, its lock, and the latest :class:`Derived` snapshot."""
+
+    def __init__(self):
+        self.lock = threading.RLock()
+        self._flag_lock = threading.Lock()
+        self._querying = False
+        self.session = None
+        self.surface = None
+        self._loop_key = None
+        self._features = None
+        self.applied_key = None      # design_key of what the session reflects
+        self._mask_key = None        # (session, revision) whose mask the loop engine holds
+        self.derived = None
+        self.revision = 0
+        self._mesh = None
+
+    # -- hover queries ------------------------------------------------------------
+    def interrupt(self):
+        """Stop a running hover query (it raises Cancelled), so that the
+        caller gets the lock soon.  Never touches an update or an edit."""
+        with self._flag_lock:
+            if self._querying and self.session is not None:
+                self.session.loop_session.native.cancel()
+
+    def query(self, fn):
+        """Run ``fn(loop_session)`` as an interruptible query on the loop
+        engine under the design's compatibility mask (§6.2); the caller holds
+        no lock.  Returns (value, revision)."""
+        with self.lock:
+            if self.session is None:
+                raise RuntimeError("the design is not derived yet")
+            self._apply_mask()
+            with self._flag_lock:
+                self._querying = True
+            try:
+                return fn(self.session.loop_session), self.revision
+            finally:
+                with self._flag_lock:
+                    self._querying = False
+
+    def best_loop(self, point):
+        """The hover query: what ``DesignSession.best_loop`` answers."""
+        return self.query(lambda ls: ls.best_loop(point))
+
+    def loops(self, anchors, alternatives=1):
+        """Ranked compatible loops: what ``DesignSession.loops`` answers."""
+        return self.query(lambda ls: ls.loops(anchors, alternatives))
+
+    def _apply_mask(self):
+        # DesignSession.best_loop/loops recompute the mask for every query
+        # and clear it after; computing it costs as much as a hover query
+        # (~65 ms at 30K triangles), so apply it once per derived state and
+        # keep it between queries.  Updates clear it (set_strips ends with an
+        # empty mask): they reset _mask_key, and so does handing the session out.
+        key = (id(self.session), self.revision)
+        if self._mask_key != key:
+            self.session.native.apply_mask()
+            self._mask_key = key
+
+    def session_for_caller(self):
+        """The DesignSession for direct use (its own queries clear the mask)."""
+        with self.lock:
+            self._mask_key = None
+            return self.session
+
+    # -- updates ----------------------------------------------------------------
+    def is_current(self, surface, design, features):
+        return (self.session is not None and self.surface is surface
+                and self.applied_key == design_key(design, features))
+
+    def sync(self, surface, design, features):
+        """Make the session reflect ``design`` on ``surface`` and return the
+        snapshot.  A strip that fails is recorded in ``Derived.error`` (the
+        design itself is never changed here)."""
+        sw = import_stripweave()
+        from stripweave.design import Design
+        from stripweave.strips import DesignSession
+
+        self.interrupt()
+        with self.lock:
+            key = design_key(design, features)
+            loop_key = loop_options_key(design)
+            if (self.session is None or self.surface is not surface or self._loop_key != loop_key
+                    or self._features != bool(features)):
+                reuse = None
+                if self.session is not None and self.surface is surface and self._loop_key == loop_key:
+                    reuse = self.session.loop_session  # only Features changed: keep the graph
+                # Built empty, then updated: a failing strip must not lose the session.
+                self.session = DesignSession(surface, Design(options=design.options), loop_session=reuse,
+                                             features=bool(features))
+                self.surface = surface
+                self._loop_key = loop_key
+                self._features = bool(features)
+                self._mesh = None
+                self.applied_key = None
+            if key == self.applied_key and self.derived is not None:
+                self.session.design = design  # same strips: only unknown keys may differ
+                return self.derived
+            self.session.design = design
+            self._mask_key = None
+            error = None
+            try:
+                self.session.update()
+            except sw.InputError as exc:
+                error = str(exc)
+            except BaseException:
+                self.applied_key = None  # unknown state: redo next time
+                raise
+            self.applied_key = key
+            return self._snapshot(error)
+
+    def add_strip(self, anchors):
+        """Append a strip (reverted on InputError, which propagates).
+        Returns (design dict, snapshot)."""
+        with self.lock:
+            self._require()
+            self._mask_key = None
+            self.session.add_strip(anchors)
+            self.applied_key = design_key(self.session.design, self._features)
+            return self.session.design.to_dict(), self._snapshot(None)
+
+    def _require(self):
+        if self.session is None:
+            raise RuntimeError("the design is not derived yet")
+
+    def _snapshot(self, error):
+        s = self.session
+        if self._mesh is None:
+            surf = s.surface
+            vertices, normals = np.asarray(surf.vertices, dtype=float), np.asarray(surf.normals, dtype=float)
+            self._mesh = (vertices, normals, np.asarray(surf.triangles, dtype=np.int64),
+                          NormalLift(vertices, normals))
+        strips = []
+        try:
+            for i, raw in enumerate(s.strips()):
+                strips.append(_strip_record(s, i, raw))
+        except Exception as exc:  # what could be derived, plus why not more
+            error = error or "strips: {}".format(exc)
+        try:
+            singularities = [(tuple(float(c) for c in x["position"]), float(x["index"]))
+                             for x in s.singularities()]
+        except Exception:
+            singularities = []
+        try:
+            fold_overs = int(s.native.fold_overs)
+        except Exception:
+            fold_overs = 0
+        self.revision += 1
+        self.derived = Derived(self.revision, self.applied_key, *self._mesh, strips, singularities, fold_overs,
+                               error, len(s.design.strips))
+        return self.derived

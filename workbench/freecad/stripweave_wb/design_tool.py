@@ -1,0 +1,467 @@
+"""The "Design strips" tool (paper §4.1): weave dual strips with the mouse.
+
+* hovering the surface shows the best compatible loop through the point
+  under the cursor (``DesignSession.best_loop``), as a highlighted line;
+* Ctrl+wheel browses the alternatives through that point, best first
+  (``DesignSession.loops([point], alternatives=6)``); the plain wheel still
+  zooms;
+* a click adds the strip: the picked point as a positional anchor, or, when
+  an alternative other than the best is shown, with that loop's tangent at
+  the point as its direction (one undoable transaction);
+* the task panel lists the strips with Remove buttons, the singularities and
+  fold-overs; Close or Esc ends the tool.
+
+Queries run on a :class:`QueryWorker` thread; a newer query interrupts an
+older one, and results computed for an older cursor position or an older
+design are dropped.  The GUI thread only picks, draws and edits the
+document.  Coin event callbacks never add or remove nodes (that would happen
+during a scene traversal): closing from a callback is deferred.
+
+Scriptable (tests, macros)::
+
+    tool = design_tool.start(design_obj)
+    tool.hover_screen(x, y)      # what the mouse-move callback calls
+    tool.hover_point((13, 0, 0)) # the same, without picking
+    tool.wait_idle(); tool.preview_point_count()
+    tool.browse(+1); tool.click_screen(x, y) / tool.add_at(point); tool.close()
+"""
+
+import time
+
+import numpy as np
+
+import FreeCAD as App
+import FreeCADGui as Gui
+from PySide import QtCore, QtGui
+from pivy import coin
+
+from . import derive_async, design_model, messages
+from .design_overlay import PreviewOverlay
+from .design_panel import DesignPanel
+from .query_worker import QueryWorker
+
+POLL_MS = 30
+ALTERNATIVES = 6
+CLICK_TOLERANCE_PX = 4
+
+_active = None
+
+
+def active_tool():
+    return _active
+
+
+def start(obj):
+    """Start the tool on Design ``obj`` (closing one running on another
+    design).  Returns the tool, or None when it cannot start (reported)."""
+    global _active
+    if _active is not None:
+        if _active.obj_name == obj.Name and _active.doc_name == obj.Document.Name and not _active.closed:
+            return _active
+        _active.close()
+    view = Gui.activeDocument().activeView() if Gui.activeDocument() else None
+    if view is None or not hasattr(view, "getSceneGraph"):
+        messages.error("Design strips needs a 3D view: activate the document's 3D view first.")
+        return None
+    if Gui.Control.activeDialog():
+        messages.error("Another task panel is open: finish or close it first, then run Design strips.")
+        return None
+    tool = DesignTool(obj, view)
+    _active = tool
+    tool.open()
+    return tool
+
+
+class _ViewEventFilter(QtCore.QObject):
+    """Qt filter on the 3D viewport: Ctrl+wheel browses (and does not zoom),
+    Esc closes the tool."""
+
+    def __init__(self, tool):
+        super().__init__()
+        self.tool = tool
+
+    def eventFilter(self, watched, event):
+        try:
+            if event.type() == QtCore.QEvent.Wheel and (event.modifiers() & QtCore.Qt.ControlModifier):
+                delta = event.angleDelta().y() if hasattr(event, "angleDelta") else event.delta()
+                if delta:
+                    self.tool.browse(1 if delta < 0 else -1)  # wheel down: next, worse alternative
+                return True
+            if event.type() == QtCore.QEvent.KeyPress and event.key() == QtCore.Qt.Key_Escape:
+                QtCore.QTimer.singleShot(0, self.tool.close)
+                return True
+        except Exception:
+            messages.log("design tool event filter: {}".format(event))
+        return False
+
+
+class DesignTool:
+    def __init__(self, obj, view):
+        self.doc_name, self.obj_name = obj.Document.Name, obj.Name
+        self.view = view
+        self.cache = obj.Proxy.cache()
+        self.worker = None
+        self.closed = False
+        self.preview = PreviewOverlay()
+        self.panel = DesignPanel(self, obj.Label)
+        self.point = None             # the surface point the proposals pass
+        self.proposals = []           # loops through it: [best] or the alternatives
+        self.index = 0                # the proposal shown (0: the best)
+        self.want_index = 0           # asked for by the wheel, shown once computed
+        self.proposal_serial = 0      # newest proposal query
+        self.alternatives_requested = False
+        self.add_serial = None        # strip addition in flight
+        self.add_base = None          # DesignJson the addition is based on
+        self.last_error = None
+        self._seen_json = obj.DesignJson
+        self._press = None
+        self._callbacks = []
+        self._filter = _ViewEventFilter(self)
+        self._filtered = []
+        self._scene = None
+        self.timer = QtCore.QTimer()
+        self.timer.setInterval(POLL_MS)
+        self.timer.timeout.connect(self._poll)
+
+    # -- life cycle -------------------------------------------------------------------
+    def obj(self):
+        doc = App.listDocuments().get(self.doc_name)
+        return doc.getObject(self.obj_name) if doc else None
+
+    def open(self):
+        obj = self.obj()
+        self._scene = self.view.getSceneGraph()
+        self._scene.addChild(self.preview.root)
+        for cls, fn in ((coin.SoLocation2Event, self._on_move), (coin.SoMouseButtonEvent, self._on_button),
+                        (coin.SoKeyboardEvent, self._on_key)):
+            self._callbacks.append((cls, self.view.addEventCallbackPivy(cls.getClassTypeId(), fn)))
+        for w in _viewport_widgets():
+            w.installEventFilter(self._filter)
+            self._filtered.append(w)
+        Gui.Control.showDialog(self.panel)
+        self.panel.refresh(obj.Proxy.summary(obj))
+        self.timer.start()
+        self._ensure_derived(obj)
+
+    def close(self, from_panel=False):
+        """End the tool (idempotent).  ``from_panel``: the task dialog is
+        closing itself (Close button), do not close it again."""
+        global _active
+        if self.closed:
+            return
+        self.closed = True
+        self.timer.stop()
+        if self.worker is not None:
+            self.worker.stop()
+        for cls, cb in self._callbacks:
+            try:
+                self.view.removeEventCallbackPivy(cls.getClassTypeId(), cb)
+            except Exception:
+                pass
+        self._callbacks = []
+        for w in self._filtered:
+            try:
+                w.removeEventFilter(self._filter)
+            except RuntimeError:
+                pass
+        self._filtered = []
+        if self._scene is not None:
+            self._scene.removeChild(self.preview.root)
+            self._scene = None
+        if not from_panel and Gui.Control.activeDialog():
+            Gui.Control.closeDialog()
+        if _active is self:
+            _active = None
+
+    def _ensure_derived(self, obj):
+        if obj.Proxy.derived(obj) is not None:
+            self._ready()
+            return
+        self.panel.set_status("deriving the design (cross field, parameterization, strips) ...")
+        derive_async.request(obj, callback=self._on_derived)
+
+    def _on_derived(self, obj, error):
+        if self.closed:
+            return
+        if error:
+            self.panel.set_status("cannot derive the design: {}".format(error), True)
+            return
+        if obj is not None and obj.Proxy.derived(obj) is not None:
+            obj.ViewObject.Proxy.redraw()
+            self._ready()
+
+    def _ready(self):
+        if self.worker is None:
+            self.worker = QueryWorker(self.cache)
+        obj = self.obj()
+        self.panel.refresh(obj.Proxy.summary(obj))
+        if not self.last_error:
+            self.panel.set_status(obj.Status)
+        if self.point is not None:
+            self._propose()
+
+    # -- input ---------------------------------------------------------------------------
+    def _on_move(self, event_cb):
+        pos = event_cb.getEvent().getPosition()
+        self.hover_screen(int(pos[0]), int(pos[1]))
+
+    def _on_button(self, event_cb):
+        ev = event_cb.getEvent()
+        if ev.getButton() != coin.SoMouseButtonEvent.BUTTON1:
+            return
+        pos = ev.getPosition()
+        x, y = int(pos[0]), int(pos[1])
+        if ev.getState() == coin.SoButtonEvent.DOWN:
+            self._press = (x, y)
+            if self.pick(x, y) is not None:
+                event_cb.setHandled()  # the tool owns left clicks on the model (no selection)
+        elif ev.getState() == coin.SoButtonEvent.UP and self._press is not None:
+            px, py = self._press
+            self._press = None
+            if abs(x - px) <= CLICK_TOLERANCE_PX and abs(y - py) <= CLICK_TOLERANCE_PX:
+                if self.click_screen(x, y):
+                    event_cb.setHandled()
+
+    def _on_key(self, event_cb):
+        ev = event_cb.getEvent()
+        if coin.SoKeyboardEvent.isKeyPressEvent(ev, coin.SoKeyboardEvent.ESCAPE):
+            event_cb.setHandled()
+            QtCore.QTimer.singleShot(0, self.close)  # not inside the scene traversal
+
+    def pick(self, x, y):
+        """The point of the model under screen position (x, y) (Coin
+        coordinates, origin bottom left), or None."""
+        obj = self.obj()
+        if obj is None:
+            return None
+        names = {obj.Name}
+        sm = obj.Surface
+        if sm is not None:
+            names.add(sm.Name)
+            if sm.Source is not None:
+                names.add(sm.Source.Name)
+        info = self.view.getObjectInfo((int(x), int(y)))
+        if not info or not (names & {info.get("Object"), info.get("ParentObject")}):
+            return None
+        return (float(info["x"]), float(info["y"]), float(info["z"]))
+
+    def hover_screen(self, x, y):
+        """Mouse moved to (x, y): propose the best loop through the point
+        under the cursor.  Returns the picked point or None (off the model)."""
+        if self.closed:
+            return None
+        point = self.pick(x, y)
+        if point is not None:
+            self.hover_point(point)
+        return point
+
+    def hover_point(self, point):
+        """Propose the best loop through ``point`` (a surface point)."""
+        self.point = tuple(float(c) for c in point)
+        self.index = self.want_index = 0
+        self.alternatives_requested = False
+        self.proposals = []
+        self._propose()
+
+    def browse(self, step):
+        """Show the next (step > 0) or previous alternative through the point."""
+        if self.point is None or self.worker is None:
+            return
+        self.want_index = max(0, min(ALTERNATIVES - 1, self.want_index + int(step)))
+        if not self.alternatives_requested:
+            self.alternatives_requested = True
+            self.proposal_serial = self.worker.propose("alternatives", self.point, ALTERNATIVES)
+            self.panel.set_proposal("searching alternatives ...")
+        else:
+            self._show()
+
+    def click_screen(self, x, y):
+        point = self.pick(x, y)
+        if point is None:
+            return False
+        return self.add_at(point)
+
+    def add_at(self, point):
+        """Add the strip through ``point``: positional, or with the tangent
+        of the alternative shown (when it is not the best)."""
+        obj = self.obj()
+        if self.worker is None or obj is None or self.add_serial is not None:
+            return False
+        anchor = list(map(float, point))
+        if self.index > 0 and self.index < len(self.proposals) and self._near(point):
+            tangent = loop_tangent(self.proposals[self.index]["points"], point,
+                                   self.proposals[self.index].get("closed", True))
+            if tangent is not None:
+                anchor += list(tangent)
+        self.add_base = obj.DesignJson
+        self.add_serial = self.worker.add_strip([anchor])
+        self.panel.set_busy(True)
+        self.panel.set_status("adding the strip ...")
+        return True
+
+    def remove(self, index):
+        obj = self.obj()
+        if obj is None or self.add_serial is not None:
+            return
+        try:
+            design_model.remove_strip(obj, index)
+        except Exception as exc:
+            messages.error("cannot remove strip {}: {}".format(index + 1, exc))
+        self._after_edit(obj)
+
+    # -- results (GUI thread, QTimer) ------------------------------------------------------
+    def _poll(self):
+        try:
+            self._step()
+        except Exception:
+            import traceback
+            messages.error("design tool: internal error:\n" + traceback.format_exc(), dialog=False)
+
+    def _step(self):
+        obj = self.obj()
+        if obj is None:
+            self.close()
+            return
+        if obj.DesignJson != self._seen_json:  # undo/redo, import, property edits
+            self._seen_json = obj.DesignJson
+            self.proposals = []
+            self.preview.clear()
+            self.panel.refresh(obj.Proxy.summary(obj))
+            if obj.Proxy.derived(obj) is None:
+                self._ensure_derived(obj)
+            elif self.point is not None:
+                self._propose()
+        if self.worker is None:
+            return
+        for r in self.worker.take_results():
+            if r.kind == "add":
+                self._on_added(obj, r)
+            elif r.cancelled or r.serial != self.proposal_serial:
+                continue  # an older cursor position
+            elif r.error:
+                self.proposals = []
+                self.preview.clear()
+                self.panel.set_proposal("no compatible strip through this point: {}".format(r.error))
+            elif r.revision != self.cache.revision:
+                self._propose()  # computed before the design changed
+            else:
+                self.proposals = list(r.value)
+                self._show()
+
+    def _on_added(self, obj, r):
+        self.add_serial = None
+        self.panel.set_busy(False)
+        if r.error:
+            self.last_error = r.error
+            self.panel.set_status("strip not added: {}".format(r.error), True)
+            messages.warning("strip not added: {}".format(r.error))
+            return
+        if obj.DesignJson != self.add_base:  # the design changed meanwhile: this addition is stale
+            self.panel.set_status("the design changed while the strip was added; click again", True)
+            self._ensure_derived(obj)
+            return
+        self.last_error = None
+        design_model.write_design(obj, r.value, "Add strip")
+        self._after_edit(obj)
+
+    def _after_edit(self, obj):
+        self._seen_json = obj.DesignJson
+        self.panel.refresh(obj.Proxy.summary(obj))
+        if not self.last_error:
+            self.panel.set_status(obj.Status, obj.Status.startswith("error"))
+        self.proposals = []
+        self.preview.clear()
+        if obj.Proxy.derived(obj) is None:
+            self._ensure_derived(obj)
+        elif self.point is not None:
+            self.hover_point(self.point)  # the next proposal, under the new mask: the best again
+
+    def _propose(self):
+        if self.worker is None or self.point is None or self.closed:
+            return
+        if derive_async.pending(self.obj()):
+            return  # the session is catching up with the design; _ready proposes again
+        if self.alternatives_requested:
+            self.proposal_serial = self.worker.propose("alternatives", self.point, ALTERNATIVES)
+        else:
+            self.proposal_serial = self.worker.propose("best", self.point)
+
+    def _show(self):
+        if not self.proposals:
+            return
+        self.index = min(self.want_index, len(self.proposals) - 1)
+        loop = self.proposals[self.index]
+        points, anchor = self._lifted(loop["points"], self.point)
+        self.preview.set_loop(points, anchor)
+        which = "best" if self.index == 0 else "alternative {} of {}".format(self.index + 1, len(self.proposals))
+        self.panel.set_proposal("{}: {} loop, length {:.4g}, cost {:.4g}".format(
+            which, "closed" if loop.get("closed") else "open", loop["length"], loop["cost"]))
+
+    def _lifted(self, points, anchor):
+        """The preview floats above the design's loops (lift.py)."""
+        obj = self.obj()
+        d = obj.Proxy.derived(obj) if obj is not None else None
+        if d is None:
+            return points, anchor
+        from .design_view import MARKER_LIFT
+        settings = getattr(obj.ViewObject.Proxy, "settings", None) or {}
+        fraction = MARKER_LIFT * float(settings.get("lift", 0.002))
+        return d.lift.lift(points, fraction), tuple(d.lift.lift([anchor], fraction)[0])
+
+    def _near(self, point):
+        if self.point is None:
+            return False
+        obj = self.obj()
+        d = obj.Proxy.derived(obj) if obj is not None else None
+        scale = float(np.linalg.norm(np.ptp(d.vertices, axis=0))) if d is not None and len(d.vertices) else 1.0
+        return float(np.linalg.norm(np.subtract(point, self.point))) <= 0.02 * scale
+
+    # -- for tests and macros --------------------------------------------------------------
+    def preview_point_count(self):
+        return self.preview.point_count()
+
+    def wait_idle(self, timeout=30.0):
+        """Process GUI events until the worker has nothing to do and its
+        results are handled.  True if that happened within ``timeout``."""
+        end = time.monotonic() + timeout
+        while time.monotonic() < end:
+            QtGui.QApplication.processEvents(QtCore.QEventLoop.AllEvents, 20)
+            if (self.worker is not None and self.worker.idle() and self.add_serial is None
+                    and not derive_async.pending(self.obj())):
+                self._poll()
+                return True
+            time.sleep(0.01)
+        return False
+
+
+def loop_tangent(points, point, closed=True):
+    """Unit tangent of the polyline ``points`` at its point nearest ``point``."""
+    pts = np.asarray(points, dtype=float).reshape(-1, 3)
+    if len(pts) < 2:
+        return None
+    j = int(np.argmin(np.linalg.norm(pts - np.asarray(point, dtype=float), axis=1)))
+    n = len(pts)
+    if closed:
+        prev, nxt = pts[(j - 1) % n], pts[(j + 1) % n]
+        if np.allclose(pts[0], pts[-1]) and j in (0, n - 1):  # repeated closing point
+            prev, nxt = pts[-2], pts[1]
+    else:
+        prev, nxt = pts[max(j - 1, 0)], pts[min(j + 1, n - 1)]
+    t = nxt - prev
+    norm = float(np.linalg.norm(t))
+    return tuple(t / norm) if norm > 0 else None
+
+
+def _viewport_widgets():
+    """The widgets of the active 3D view that receive mouse and key events."""
+    mw = Gui.getMainWindow()
+    mdi = mw.findChild(QtGui.QMdiArea)
+    sub = mdi.activeSubWindow() if mdi is not None else None
+    if sub is None or sub.widget() is None:
+        return []
+    out = []
+    for gv in sub.widget().findChildren(QtGui.QGraphicsView):
+        out.append(gv)
+        if gv.viewport() is not None:
+            out.append(gv.viewport())
+    return out

@@ -1,0 +1,143 @@
+"""The design tool's worker thread: loop queries and strip additions on a
+Design's SessionCache, off the GUI thread.
+
+Two kinds of requests:
+
+* proposals (hover: the best loop through a point; browse: the ranked
+  alternatives through it).  Only the newest is kept: submitting one drops
+  the pending one and interrupts the running one (the native query raises
+  Cancelled), so the cursor never waits for stale work;
+* edits (add a strip), run in order, never dropped nor interrupted.
+
+Results are collected in a list the GUI thread takes with
+:meth:`QueryWorker.take_results` (from a QTimer poll); each carries its
+request's serial number and the cache revision it was computed at, so the
+GUI can drop stale ones.  No Qt and no document access here.
+"""
+
+import collections
+import threading
+import traceback
+
+from . import import_stripweave
+
+
+class Request:
+    def __init__(self, serial, kind, args):
+        self.serial = serial
+        self.kind = kind          # "best", "alternatives" or "add"
+        self.args = args
+
+
+class Result:
+    def __init__(self, request, value=None, error=None, cancelled=False, revision=None):
+        self.serial = request.serial
+        self.kind = request.kind
+        self.args = request.args
+        self.value = value
+        self.error = error        # one line for the user, or None
+        self.cancelled = cancelled
+        self.revision = revision  # SessionCache.revision the value belongs to
+
+
+class QueryWorker:
+    def __init__(self, cache, name="StripWeave design tool"):
+        self.sw = import_stripweave()
+        self.cache = cache
+        self._cond = threading.Condition()
+        self._proposal = None
+        self._edits = collections.deque()
+        self._results = []
+        self._serial = 0
+        self._busy = False
+        self._stopped = False
+        self._thread = threading.Thread(target=self._run, name=name, daemon=True)
+        self._thread.start()
+
+    # -- GUI thread -----------------------------------------------------------------
+    def propose(self, kind, point, alternatives=1):
+        """Queue a proposal query ("best" or "alternatives") through ``point``;
+        returns its serial.  Replaces and interrupts older proposals."""
+        with self._cond:
+            self._serial += 1
+            self._proposal = Request(self._serial, kind, (tuple(point), int(alternatives)))
+            self._cond.notify()
+            serial = self._serial
+        self.cache.interrupt()
+        return serial
+
+    def add_strip(self, anchors):
+        """Queue adding a strip through ``anchors``; returns its serial."""
+        with self._cond:
+            self._serial += 1
+            self._edits.append(Request(self._serial, "add", [list(a) for a in anchors]))
+            self._proposal = None  # computed before the edit: stale anyway
+            self._cond.notify()
+            serial = self._serial
+        self.cache.interrupt()
+        return serial
+
+    def take_results(self):
+        with self._cond:
+            out, self._results = self._results, []
+        return out
+
+    def idle(self):
+        with self._cond:
+            return not self._busy and self._proposal is None and not self._edits and not self._results
+
+    def stop(self):
+        with self._cond:
+            self._stopped = True
+            self._proposal = None
+            self._edits.clear()
+            self._cond.notify()
+        self.cache.interrupt()
+
+    def join(self, timeout=None):
+        self._thread.join(timeout)
+        return not self._thread.is_alive()
+
+    # -- worker thread ----------------------------------------------------------------
+    def _next(self):
+        with self._cond:
+            while not self._stopped and self._proposal is None and not self._edits:
+                self._cond.wait()
+            if self._stopped:
+                return None
+            self._busy = True
+            if self._edits:
+                return self._edits.popleft()
+            req, self._proposal = self._proposal, None
+            return req
+
+    def _run(self):
+        while True:
+            req = self._next()
+            if req is None:
+                return
+            try:
+                result = self._execute(req)
+            except self.sw.Cancelled:
+                result = Result(req, cancelled=True)
+            except self.sw.InputError as exc:
+                result = Result(req, error=str(exc))
+            except Exception as exc:
+                traceback.print_exc()
+                result = Result(req, error="{}: {}".format(type(exc).__name__, exc))
+            with self._cond:
+                self._busy = False
+                if not self._stopped:
+                    self._results.append(result)
+
+    def _execute(self, req):
+        if req.kind == "add":
+            data, derived = self.cache.add_strip(req.args)
+            return Result(req, value=data, revision=derived.revision)
+        point, alternatives = req.args
+        if req.kind == "best":
+            loop, revision = self.cache.best_loop(point)
+            value = [loop]
+        else:
+            value, revision = self.cache.loops([point], alternatives)
+        return Result(req, value=value, revision=revision)
