@@ -1,6 +1,124 @@
-// Bindings: see bind.h.
+// Bindings of the design and strips stages (paper §4.1, §6): DesignState.
+//
+// Anchors, points, widths and strip coordinates cross in MODEL units.
+// Recomputing a design releases the GIL.
 #include "bind.h"
 
+#include "stripweave/core/error.h"
+#include "stripweave/strips/design_state.h"
+
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+namespace py = pybind11;
+using namespace stripweave;
+
 namespace stripweave_python {
-void bind_design(pybind11::module_& m) {}
+
+namespace {
+
+std::vector<StripSpec> specs_from(const Surface& s, const std::vector<std::vector<std::vector<double>>>& strips) {
+  std::vector<StripSpec> specs;
+  for (const auto& anchors : strips) {
+    StripSpec spec;
+    for (const auto& a : anchors) spec.anchors.push_back(anchor_from(s, a));
+    specs.push_back(std::move(spec));
+  }
+  return specs;
+}
+
+py::dict strip_dict(const Surface& s, const DesignStrip& d) {
+  py::dict out = path_dict(s, d.path.path);
+  out["closed"] = d.loop.closed;
+  out["cost"] = d.loop.cost;
+  out["width_left"] = d.strip.width_left;
+  out["width_right"] = d.strip.width_right;
+  out["stop_left"] = d.strip.stop_left;
+  out["stop_right"] = d.strip.stop_right;
+  out["area_fraction"] = d.strip.area_fraction;
+  out["triangles"] = d.strip.triangles;
+  // The loop is the isocurve across = 0 of its strip: |across| at the ends of
+  // every loop segment, in the strip coordinates carried through S's
+  // transitions (a check of exact alignment, model units).
+  double across = 0;
+  for (const PathSegment& seg : d.path.segments) {
+    if (!d.strip.covered[seg.triangle]) continue;
+    for (Index point : {seg.from, seg.to}) {
+      const Vec3 b = barycentric_in(s, d.path.path, point, seg.triangle);
+      const auto& c = d.strip.coords[seg.triangle];
+      across = std::max(across, std::abs(b[0] * c[0].y() + b[1] * c[1].y() + b[2] * c[2].y()));
+    }
+  }
+  out["loop_across_max"] = across;
+  out["loop_nodes"] = d.loop.nodes;
+  return out;
+}
+
+}  // namespace
+
+void bind_design(py::module_& m) {
+  py::class_<DesignState, std::shared_ptr<DesignState>>(
+      m, "DesignState", "All derived state of a design: loops, cross field, parameterization, strips, mask")
+      .def(py::init([](std::shared_ptr<LoopSession> session, bool features, bool boundary) {
+             FieldOptions options;
+             options.features = features;
+             options.boundary = boundary;
+             return std::make_shared<DesignState>(std::move(session), options);
+           }),
+           py::arg("session"), py::arg("features") = true, py::arg("boundary") = true)
+      .def(
+          "set_strips",
+          [](DesignState& d, const std::vector<std::vector<std::vector<double>>>& strips) {
+            const std::vector<StripSpec> specs = specs_from(d.surface(), strips);
+            py::gil_scoped_release release;
+            d.set_strips(specs);
+          },
+          py::arg("strips"), "Each strip as its anchors, (x,y,z) or (x,y,z,dx,dy,dz) in model units")
+      .def_property_readonly("strip_count", [](const DesignState& d) { return d.strips().size(); })
+      .def("strip", [](const DesignState& d, size_t i) {
+        if (i >= d.strips().size()) throw py::index_error("no strip " + std::to_string(i));
+        return strip_dict(d.surface(), d.strips()[i]);
+      })
+      .def("strip_coordinates",
+           [](const DesignState& d, size_t i) {
+             // Per triangle corner (along, across) in model units; NaN outside the strip.
+             if (i >= d.strips().size()) throw py::index_error("no strip " + std::to_string(i));
+             const Strip& st = d.strips()[i].strip;
+             const py::ssize_t nt = static_cast<py::ssize_t>(st.coords.size());
+             py::array_t<double> out({nt, py::ssize_t(3), py::ssize_t(2)});
+             auto o = out.mutable_unchecked<3>();
+             for (py::ssize_t t = 0; t < nt; ++t)
+               for (int c = 0; c < 3; ++c)
+                 for (int k = 0; k < 2; ++k) o(t, c, k) = st.covered[t] ? st.coords[t][c][k] : std::nan("");
+             return out;
+           })
+      .def("singularities",
+           [](const DesignState& d) {
+             const Surface& s = d.surface();
+             py::list out;
+             for (const Singularity& sg : d.field().singularities) {
+               py::dict x;
+               const Vec3 p = s.similarity.to_model(s.mesh.positions[sg.vertex]);
+               x["vertex"] = sg.vertex;
+               x["position"] = std::vector<double>{p.x(), p.y(), p.z()};
+               x["index"] = sg.index();
+               out.append(x);
+             }
+             return out;
+           })
+      .def_property_readonly("fold_overs", [](const DesignState& d) { return d.parameterization().fold_overs; })
+      .def_property_readonly("timings_ms",
+                             [](const DesignState& d) {
+                               py::dict t;
+                               t["loops"] = d.timings().loops_ms;
+                               t["field"] = d.timings().field_ms;
+                               t["parameterization"] = d.timings().param_ms;
+                               t["extraction"] = d.timings().extraction_ms;
+                               return t;
+                             })
+      .def("disabled_nodes", &DesignState::disabled_nodes)
+      .def("apply_mask", &DesignState::apply_mask,
+           "Give the session the compatibility mask of every strip, for the next loop");
+}
+
 }  // namespace stripweave_python

@@ -1,0 +1,247 @@
+"""Dual strips (paper §6): designs on surfaces, strips, singularities, compatibility."""
+import json
+import math
+import os
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import stripweave as sw
+from models import box, capped_cylinder, open_cylinder_shell, sphere, torus
+from stripweave.design import Design
+from stripweave.strips import DesignSession
+
+CUBE_BELTS = [[(5, 5, 10, 1, 0, 0)], [(5, 3, 0, 0, 1, 0)], [(3, 0, 5, 1, 0, 0)]]
+SPHERE_CIRCLES = [[(5, 0, 0, 0, 1, 0)], [(0, 5, 0, 0, 0, 1)], [(0, 0, 5, 1, 0, 0)]]
+MERIDIAN = [(13, 0, 0, 0, 0, 1)]
+REPO = Path(__file__).resolve().parents[1]
+LAUNCHER = Path(os.environ.get("STRIPWEAVE_BUILD", REPO / "build")) / "stripweave"
+
+
+@pytest.fixture(scope="module")
+def torus_surface():
+    return sw.from_shape(torus(10, 3), target_triangles=16000)
+
+
+@pytest.fixture(scope="module")
+def cube_design():
+    return DesignSession(sw.from_shape(box(10), target_triangles=12000), Design(CUBE_BELTS))
+
+
+@pytest.fixture(scope="module")
+def torus_meridian(torus_surface):
+    return DesignSession(torus_surface, Design([MERIDIAN]))
+
+
+def quarter_indices(session):
+    return sorted(round(4 * s["index"]) for s in session.singularities())
+
+
+def euler_characteristic(surface):
+    t = surface.triangles
+    edges = {tuple(sorted(e)) for e in np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]).tolist()}
+    return len(surface.vertices) - len(edges) + len(t)
+
+
+# --- the torus ------------------------------------------------------------------
+
+def test_torus_meridian_strip_has_no_singularities_and_wraps_the_torus(torus_meridian):
+    assert torus_meridian.singularities() == []
+    strip = torus_meridian.strip(0)
+    assert strip["closed"]
+    assert strip["length"] == pytest.approx(2 * math.pi * 3, rel=0.02)
+    # Without singularities the strip conquers the whole torus, meeting itself on the far side.
+    assert strip["area_fraction"] == pytest.approx(1.0, abs=0.02)
+    assert {strip["stop_left"], strip["stop_right"]} == {"wrap"}
+    # The widths add up to the outer... inner circumference around the axis: the strip's
+    # isocurves are meridians, so across is arc length along the parallels, between
+    # 2 pi 7 (inner equator) and 2 pi 13 (outer); on the outer equator it is 2 pi 13.
+    total = strip["width_left"] + strip["width_right"]
+    assert 2 * math.pi * 7 * 0.98 < total < 2 * math.pi * 13 * 1.02
+
+
+def test_torus_loop_is_an_isocurve_of_its_strip(torus_meridian):
+    strip = torus_meridian.strip(0)
+    width = strip["width_left"] + strip["width_right"]
+    assert strip["loop_across_max"] < 1e-6 * width
+
+
+def test_torus_stripe_coordinates_grow_evenly_away_from_the_loop(torus_meridian, torus_surface):
+    """On the outer equator across is proportional to the angle phi from the meridian at phi = 0
+    (uniform stripe density). S cannot be isometric in both directions on a torus, so the
+    factor lies between the inner (7) and outer (13) radii rather than at 13."""
+    coords = torus_meridian.stripe_coordinates(0)
+    v = torus_surface.vertices
+    rho = np.hypot(v[:, 0], v[:, 1])
+    phi = np.arctan2(v[:, 1], v[:, 0])
+    outer = (np.abs(rho - 13) < 0.05) & (np.abs(phi) < 1.0) & (np.abs(v[:, 2]) < 0.2)
+    assert outer.sum() > 5
+    across = np.abs(coords[outer, 1])
+    far = np.abs(phi[outer]) > 0.1
+    ratio = across[far] / np.abs(phi[outer][far])
+    assert 7 < np.median(ratio) < 13
+    lo, hi = np.percentile(ratio, [5, 95])
+    assert lo > 0.95 * np.median(ratio) and hi < 1.05 * np.median(ratio)
+
+
+def test_compatibility_after_a_meridian_strip(torus_meridian):
+    """The best loop elsewhere is never a second meridian, and it crosses the meridian
+    strip's isocurves (the meridians) at 45 degrees or more."""
+    for point in [(-13, 0, 0), (0, 7, 0), (0, -10, 3)]:
+        loop = torus_meridian.best_loop(point)
+        assert not loop["length"] == pytest.approx(2 * math.pi * 3, rel=0.05)
+        p = np.asarray(loop["points"])
+        mid = 0.5 * (p[1:] + p[:-1])
+        tangent = np.diff(p, axis=0)
+        keep = np.linalg.norm(tangent, axis=1) > 1e-9
+        mid, tangent = mid[keep], tangent[keep] / np.linalg.norm(tangent[keep], axis=1)[:, None]
+        # The meridian direction at a point of the torus: d/d(theta) of the tube circle.
+        phi = np.arctan2(mid[:, 1], mid[:, 0])
+        radial = np.stack([np.cos(phi), np.sin(phi), np.zeros_like(phi)], axis=1)
+        q = mid - 10 * radial
+        q /= np.linalg.norm(q, axis=1)[:, None]
+        meridian = np.cross(np.cross(radial, [0, 0, 1]), q)
+        meridian /= np.linalg.norm(meridian, axis=1)[:, None]
+        angle = np.degrees(np.arccos(np.clip(np.abs((tangent * meridian).sum(axis=1)), 0, 1)))
+        # Node directions are masked at their vertices; the geodesic between bends a little.
+        assert angle.min() > 40
+        assert np.median(angle) > 60
+
+
+def test_a_direction_along_an_existing_strip_is_a_clear_error(torus_meridian):
+    with pytest.raises(sw.InputError, match="disabled"):
+        torus_meridian.loops([(-13, 0, 0, 0, 0, 1)])
+
+
+# --- the cube and the sphere ---------------------------------------------------------
+
+def test_cube_three_belts_singular_at_the_eight_corners(cube_design):
+    sing = cube_design.singularities()
+    assert quarter_indices(cube_design) == [1] * 8
+    corners = {(x, y, z) for x in (0, 10) for y in (0, 10) for z in (0, 10)}
+    found = {tuple(int(round(c)) for c in s["position"]) for s in sing}
+    assert found == corners
+    for s in sing:
+        assert np.linalg.norm(np.asarray(s["position"]) - np.round(s["position"])) < 0.01 * math.sqrt(300)
+
+
+def test_cube_belt_strips_cover_two_thirds(cube_design):
+    for i in range(3):
+        strip = cube_design.strip(i)
+        assert strip["closed"]
+        assert strip["area_fraction"] == pytest.approx(2 / 3, rel=0.05)
+        assert strip["width_left"] == pytest.approx(5, rel=0.03)
+        assert strip["width_right"] == pytest.approx(5, rel=0.03)
+        assert strip["stop_left"] == strip["stop_right"] == "singularity"
+        assert strip["loop_across_max"] < 1e-6 * 10
+    assert cube_design.native.fold_overs == 0
+
+
+def test_sphere_three_great_circles():
+    ds = DesignSession(sw.from_shape(sphere(5), target_triangles=12000), Design(SPHERE_CIRCLES))
+    assert quarter_indices(ds) == [1] * 8
+    for s in ds.singularities():
+        # One per octant, near its centre (all three coordinates +-5/sqrt(3)).
+        assert np.allclose(np.abs(s["position"]), 5 / math.sqrt(3), atol=0.6)
+    for i in range(3):
+        assert ds.strip(i)["loop_across_max"] < 1e-6 * 5
+
+
+# --- Poincaré–Hopf ---------------------------------------------------------------------
+
+@pytest.mark.parametrize("make, strips", [
+    (lambda: box(10), CUBE_BELTS[:2]),
+    (lambda: sphere(5), SPHERE_CIRCLES[:1]),
+    (lambda: capped_cylinder(5, 20), [[(5, 0, 10, 0, 1, 0)], [(-5, 0, 10, 0, 0, 1)]]),
+    (lambda: open_cylinder_shell(5, 20), [[(5, 0, 10, 0, 1, 0)], [(0, 5, 10, 0, 0, 1)]]),
+    (lambda: torus(10, 3), [MERIDIAN, [(0, 13, 0, 1, 0, 0)]]),
+])
+def test_poincare_hopf(make, strips):
+    surface = sw.from_shape(make(), target_triangles=8000)
+    ds = DesignSession(surface, Design(strips))
+    assert sum(s["index"] for s in ds.singularities()) == pytest.approx(euler_characteristic(surface), abs=1e-9)
+    result = ds.strips_json()
+    assert result["index_sum"] == pytest.approx(result["euler_characteristic"])
+
+
+# --- editing and files ---------------------------------------------------------------------
+
+def test_editing_updates_every_strip(torus_surface):
+    ds = DesignSession(torus_surface, Design([MERIDIAN]))
+    assert ds.strip(0)["area_fraction"] == pytest.approx(1.0, abs=0.02)
+    ds.add_strip([(0, 13, 0, 1, 0, 0)])
+    assert ds.native.strip_count == 2
+    assert ds.strip(1)["length"] == pytest.approx(2 * math.pi * 13, rel=0.02)
+    assert ds.design.strips[1].closed is True
+    ds.remove_strip(0)
+    assert ds.native.strip_count == 1
+    assert ds.strip(0)["length"] == pytest.approx(2 * math.pi * 13, rel=0.02)
+    # A failing edit leaves the design as it was.
+    with pytest.raises(sw.InputError, match="strip 2"):
+        ds.add_strip([(0, 13, 0, 1, 0, 0)])  # the same equator again: its direction is disabled
+    assert len(ds.design.strips) == 1 and ds.native.strip_count == 1
+
+
+def test_design_reloads_onto_a_retessellated_model(tmp_path, torus_surface):
+    ds = DesignSession(torus_surface, Design([MERIDIAN, [(0, 13, 0, 1, 0, 0)]]))
+    path = tmp_path / "design.json"
+    ds.design.save(path)
+    finer = DesignSession(sw.from_shape(torus(10, 3), target_triangles=24000), Design.load(path))
+    for i, length in enumerate([2 * math.pi * 3, 2 * math.pi * 13]):
+        assert finer.strip(i)["length"] == pytest.approx(length, rel=0.02)
+        assert finer.strip(i)["length"] == pytest.approx(ds.strip(i)["length"], rel=0.02)
+    assert json.loads(path.read_text())["strips"][0]["closed"] is True
+
+
+def test_anchor_off_the_surface_names_the_strip(torus_surface):
+    with pytest.raises(sw.InputError, match="strip 1: anchor 1 .* off the part"):
+        DesignSession(torus_surface, Design([[(30, 0, 0)]]))
+
+
+# --- the command line -----------------------------------------------------------------------
+
+def run_cli(*args):
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}  # the launcher sets its own
+    return subprocess.run([str(LAUNCHER), *map(str, args)], capture_output=True, text=True, env=env, timeout=300)
+
+
+def test_cli_strips_writes_strips_json(tmp_path):
+    model = tmp_path / "cube.brep"
+    box(10).exportBrep(str(model))
+    design = tmp_path / "design.json"
+    Design(CUBE_BELTS).save(design)
+    out = tmp_path / "out"
+    r = run_cli("strips", model, "--design", design, "--out", out, "--target-triangles", 8000)
+    assert r.returncode == 0, r.stderr
+    result = json.loads((out / "strips.json").read_text())
+    assert len(result["strips"]) == 3
+    for s in result["strips"]:
+        assert set(s) >= {"points", "width_left", "width_right", "area_fraction"}
+        assert s["area_fraction"] == pytest.approx(2 / 3, rel=0.05)
+    assert sorted(x["index"] for x in result["singularities"]) == [0.25] * 8
+    assert "singularities: 8 of index +0.25" in r.stdout
+
+
+def test_cli_loop_honours_the_design(tmp_path):
+    model = tmp_path / "torus.brep"
+    torus(10, 3).exportBrep(str(model))
+    design = tmp_path / "design.json"
+    Design([MERIDIAN]).save(design)
+    free = run_cli("loop", model, "--anchor=-13,0,0", "--json", "--target-triangles", 8000)
+    constrained = run_cli("loop", model, "--anchor=-13,0,0", "--design", design, "--json",
+                          "--target-triangles", 8000)
+    assert free.returncode == 0 and constrained.returncode == 0, free.stderr + constrained.stderr
+    assert json.loads(free.stdout)["loops"][0]["length"] == pytest.approx(2 * math.pi * 3, rel=0.02)
+    assert json.loads(constrained.stdout)["loops"][0]["length"] > 2 * math.pi * 5
+
+
+def test_cli_bad_design_file_is_one_line(tmp_path):
+    model = tmp_path / "cube.brep"
+    box(10).exportBrep(str(model))
+    bad = tmp_path / "bad.json"
+    bad.write_text('{"format": "stripweave-design", "version": 1, "strips": [{"anchors": []}]}')
+    r = run_cli("strips", model, "--design", bad, "--out", tmp_path / "o")
+    assert r.returncode == 1
+    assert r.stderr.count("\n") == 1 and "strip 1" in r.stderr
