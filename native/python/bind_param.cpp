@@ -28,6 +28,7 @@
 #include "bind.h"
 
 #include "stripweave/core/error.h"
+#include "stripweave/strips/design_state.h"
 #include "stripweave/strips/parameterization.h"
 
 #include <pybind11/numpy.h>
@@ -60,12 +61,8 @@ Solved solve(const LoopSession& session, const std::vector<Loop>& loops, bool fe
   const auto t0 = Clock::now();
   std::vector<std::vector<PathSegment>> segments;
   for (const Loop& loop : loops) {
-    LoopPath lp;
-    lp.path = session.embed(loop);
-    lp.closed = loop.closed;
-    lp.segments = path_segments(s, lp.path, lp.closed);
-    segments.push_back(lp.segments);
-    out.loops.push_back(std::move(lp));
+    out.loops.push_back(loop_path(session, loop));
+    segments.push_back(out.loops.back().segments);
   }
   const auto t1 = Clock::now();
   FieldOptions options;

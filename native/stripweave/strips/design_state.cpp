@@ -55,7 +55,6 @@ void DesignState::set_strips(const std::vector<StripSpec>& specs) {
   strips_.resize(keep);
   prefix_mask_.resize(keep);
 
-  const Surface& s = session_->surface();
   double loops_ms = 0;
   std::vector<LoopPath> paths;
   for (const DesignStrip& d : strips_) paths.push_back(d.path);
@@ -63,13 +62,7 @@ void DesignState::set_strips(const std::vector<StripSpec>& specs) {
     // The mask of strips 0..i-1, each extracted from the design so far.
     std::vector<Index> mask;
     if (i > 0) {
-      const Solved prefix = solve(paths, nullptr);
-      for (const Strip& st : prefix.strips) {
-        const std::vector<Index> nodes = incompatible_nodes(s, session_->graph(), st);
-        mask.insert(mask.end(), nodes.begin(), nodes.end());
-      }
-      std::sort(mask.begin(), mask.end());
-      mask.erase(std::unique(mask.begin(), mask.end()), mask.end());
+      mask = mask_of(solve(paths, nullptr).strips);
     }
     session_->clear_disabled();
     if (!mask.empty()) session_->set_disabled(mask, true);
@@ -105,21 +98,24 @@ void DesignState::set_strips(const std::vector<StripSpec>& specs) {
 void DesignState::finish(const std::vector<LoopPath>& paths, double loops_ms) {
   timings_ = {};
   timings_.loops_ms = loops_ms;
+  mask_.clear();
   if (paths.empty()) {
     field_ = {};
     param_ = {};
     return;
   }
   Solved all = solve(paths, &timings_);
+  // Derived once per edit, not per query: every hover applies it.
+  mask_ = mask_of(all.strips);
   field_ = std::move(all.field);
   param_ = std::move(all.param);
   for (size_t i = 0; i < strips_.size(); ++i) strips_[i].strip = std::move(all.strips[i]);
 }
 
-std::vector<Index> DesignState::disabled_nodes() const {
+std::vector<Index> DesignState::mask_of(const std::vector<Strip>& strips) const {
   std::vector<Index> mask;
-  for (const DesignStrip& d : strips_) {
-    const std::vector<Index> nodes = incompatible_nodes(session_->surface(), session_->graph(), d.strip);
+  for (const Strip& strip : strips) {
+    const std::vector<Index> nodes = incompatible_nodes(session_->surface(), session_->graph(), strip);
     mask.insert(mask.end(), nodes.begin(), nodes.end());
   }
   std::sort(mask.begin(), mask.end());
@@ -128,9 +124,8 @@ std::vector<Index> DesignState::disabled_nodes() const {
 }
 
 void DesignState::apply_mask() {
-  const std::vector<Index> mask = disabled_nodes();
   session_->clear_disabled();
-  if (!mask.empty()) session_->set_disabled(mask, true);
+  if (!mask_.empty()) session_->set_disabled(mask_, true);
 }
 
 }  // namespace stripweave

@@ -56,7 +56,7 @@ class DesignState {
   const DesignTimings& timings() const { return timings_; }
 
   // The compatibility mask of all strips, sorted node ids.
-  std::vector<Index> disabled_nodes() const;
+  const std::vector<Index>& disabled_nodes() const { return mask_; }
   // Hand that mask to the session (replacing its mask), for new loops.
   void apply_mask();
 
@@ -72,6 +72,8 @@ class DesignState {
   Solved solve(const std::vector<LoopPath>& paths, DesignTimings* timings) const;
   // Derive field, S and strips of the whole design (the loops are known).
   void finish(const std::vector<LoopPath>& paths, double loops_ms);
+  // The union of the strips' incompatible nodes, sorted.
+  std::vector<Index> mask_of(const std::vector<Strip>& strips) const;
 
   std::shared_ptr<LoopSession> session_;
   FieldOptions options_;
@@ -80,6 +82,7 @@ class DesignState {
   CrossField field_;
   Parameterization param_;
   DesignTimings timings_;
+  std::vector<Index> mask_;  // disabled_nodes(), derived with the strips
 };
 
 // The loop path of a loop: embedded and cut into per-triangle segments.
