@@ -1,0 +1,148 @@
+// Bindings for automatic weaving (issue 6; workbench/stripweave/weave.py):
+// the assessment of a design, optionally with candidate loops added, and
+// where to seed the next strip. Geometry stays native; Python only decides.
+//
+// design_loops(design_state) -> [Loop]
+//   The design's loops, in strip order (for regions() and candidates).
+// weave_assessment(design_state, extra_loops=[], seeds_per_region=3) -> dict
+//   The regions (paper §4.2) of the design's loops plus `extra_loops`, with
+//   the design's cross-field singularities (a candidate loop moves them a
+//   little; that is ignored), without the refined mesh. Keys (model units):
+//     regions   [{"valence", "disc", "colour", "total_curvature",
+//                 "ideal_valence", "area", "singularities" (count),
+//                 "seeds": [[x,y,z], ...], "clearance": [...]}]
+//               seeds by layout/weave_seeds.h (the first is the centre)
+//     valid, crossings, arcs, colours {"red","orange","yellow","none"}
+//     uncovered {"found", "area", "largest_area", "surface_area", "point",
+//                "clearance"}: what no strip covers (the design's strips only)
+//     time_ms
+// loop_anchor(session, loop, point) -> [x, y, z, dx, dy, dz]
+//   The directional anchor (a g' node: its tail vertex and tangent) of the
+//   loop nearest to `point`: re-searching the design from it is fast and
+//   deterministic, where two positional anchors are slow.
+#include "bind.h"
+
+#include "stripweave/core/error.h"
+#include "stripweave/layout/weave_seeds.h"
+#include "stripweave/strips/design_state.h"
+#include "stripweave/strips/path_segments.h"
+
+#include <pybind11/stl.h>
+
+#include <chrono>
+
+namespace py = pybind11;
+using namespace stripweave;
+
+namespace stripweave_python {
+
+namespace {
+
+std::vector<double> model_point(const Surface& s, const Vec3& p) {
+  const Vec3 q = s.similarity.to_model(p);
+  return {q.x(), q.y(), q.z()};
+}
+
+double model_length(const Surface& s, double x) { return std::isinf(x) ? -1.0 : x * s.similarity.scale; }
+
+}  // namespace
+
+void bind_weave(py::module_& m) {
+  m.def("design_loops", [](const DesignState& d) {
+        std::vector<Loop> out;
+        for (const DesignStrip& s : d.strips()) out.push_back(s.loop);
+        return out;
+      },
+      py::arg("design_state"), "The design's loops in strip order");
+
+  m.def("weave_assessment", [](DesignState& d, const std::vector<Loop>& extra, int seeds_per_region) {
+        if (seeds_per_region < 1) throw InputError("seeds_per_region must be at least 1");
+        const Surface& s = d.surface();
+        const double scale = s.similarity.scale, scale2 = scale * scale;
+        LoopArrangement arrangement;
+        Regions regions;
+        std::vector<std::vector<SeedPoint>> seeds;
+        UncoveredArea uncovered;
+        double ms = 0;
+        {
+          py::gil_scoped_release release;
+          const auto t0 = std::chrono::steady_clock::now();
+          std::vector<LoopPath> paths;
+          std::vector<const std::vector<std::uint8_t>*> covered;
+          for (const DesignStrip& ds : d.strips()) {
+            paths.push_back(ds.path);
+            covered.push_back(&ds.strip.covered);
+          }
+          for (const Loop& loop : extra) paths.push_back(loop_path(d.session(), loop));
+          arrangement = build_loop_arrangement(s, paths);
+          regions = compute_regions(s, arrangement, d.field().singularities);
+          seeds = region_seed_points(arrangement, regions, seeds_per_region);
+          uncovered = largest_uncovered_area(s, covered);
+          ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        }
+        py::list list;
+        py::dict colours;
+        for (const char* c : {"red", "orange", "yellow", "none"}) colours[c] = 0;
+        for (size_t r = 0; r < regions.regions.size(); ++r) {
+          const Region& g = regions.regions[r];
+          py::dict x;
+          x["valence"] = g.valence;
+          x["disc"] = g.disc;
+          x["euler_characteristic"] = g.euler_characteristic;
+          x["colour"] = colour_name(g.colour);
+          x["total_curvature"] = g.total_curvature;
+          x["ideal_valence"] = ideal_valence(g.total_curvature);
+          x["area"] = g.area * scale2;
+          x["singularities"] = g.singularities.size();
+          py::list pts, clear;
+          for (const SeedPoint& p : seeds[r]) {
+            pts.append(model_point(s, p.point));
+            clear.append(model_length(s, p.clearance));
+          }
+          x["seeds"] = pts;
+          x["clearance"] = clear;
+          list.append(x);
+          const char* c = colour_name(g.colour);
+          colours[c] = colours[c].cast<int>() + 1;
+        }
+        py::dict u;
+        u["found"] = uncovered.found;
+        u["area"] = uncovered.total_area * scale2;
+        u["largest_area"] = uncovered.area * scale2;
+        u["surface_area"] = uncovered.surface_area * scale2;
+        u["point"] = uncovered.found ? py::cast(model_point(s, uncovered.seed.point)) : py::none();
+        u["clearance"] = model_length(s, uncovered.seed.clearance);
+        py::dict out;
+        out["regions"] = list;
+        out["valid"] = regions.valid;
+        out["crossings"] = arrangement.crossings;
+        out["arcs"] = arrangement.arcs.size();
+        out["colours"] = colours;
+        out["uncovered"] = u;
+        out["time_ms"] = ms;
+        return out;
+      },
+      py::arg("design_state"), py::arg("extra_loops") = std::vector<Loop>(), py::arg("seeds_per_region") = 3,
+      "Regions, colours and seed points of the design (plus candidate loops), and its largest uncovered area");
+
+  m.def("loop_anchor", [](const LoopSession& session, const Loop& loop, const std::vector<double>& point) {
+        const Surface& s = session.surface();
+        if (point.size() != 3) throw InputError("loop_anchor needs a point (x, y, z)");
+        if (loop.nodes.empty()) throw InputError("loop_anchor: the loop has no nodes");
+        const Vec3 p = s.similarity.to_normalized(Vec3(point[0], point[1], point[2]));
+        const ElasticaGraph& g = session.graph();
+        Index best = loop.nodes.front();
+        double best_d = std::numeric_limits<double>::infinity();
+        for (Index n : loop.nodes) {
+          const double dn = (s.mesh.positions[g.tail.at(n)] - p).squaredNorm();
+          if (dn < best_d) best_d = dn, best = n;
+        }
+        const Vec3 q = s.similarity.to_model(s.mesh.positions[g.tail.at(best)]);
+        const Vec3 t = g.tangent(s, best);
+        return std::vector<double>{q.x(), q.y(), q.z(), t.x(), t.y(), t.z()};
+      },
+      py::arg("session"), py::arg("loop"), py::arg("point"),
+      "The loop's directional anchor nearest to a point (model units)");
+}
+
+}  // namespace stripweave_python

@@ -1,0 +1,167 @@
+// Seed points for automatic weaving: see weave_seeds.h.
+#include "stripweave/layout/weave_seeds.h"
+
+#include <algorithm>
+#include <functional>
+#include <queue>
+
+namespace stripweave {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Lower the distances `d` by shortest paths from `sources` (distance 0) along
+// the edges `allowed` admits. Only improvements propagate, so repeated calls
+// grow a multi-source distance field incrementally (farthest-point sampling).
+void relax_from(const TriangleMesh& mesh, const MeshTopology& topo, const std::vector<Index>& sources,
+                const std::function<bool(Index)>& allowed, std::vector<double>& d) {
+  using Item = std::pair<double, Index>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+  for (Index s : sources) {
+    d[s] = 0;
+    queue.push({0.0, s});
+  }
+  while (!queue.empty()) {
+    const auto [dv, v] = queue.top();
+    queue.pop();
+    if (dv > d[v]) continue;
+    // Neighbours through the triangle fan: find the edge to each to ask `allowed`.
+    for (const Index* w = topo.vertex_neighbours.begin(v); w != topo.vertex_neighbours.end(v); ++w) {
+      const Index e = topo.find_edge(v, *w);
+      if (e == kInvalid || !allowed(e)) continue;
+      const double nd = dv + (mesh.positions[v] - mesh.positions[*w]).norm();
+      if (nd < d[*w]) {
+        d[*w] = nd;
+        queue.push({nd, *w});
+      }
+    }
+  }
+}
+
+// The vertex of `candidates` with the largest finite-or-not d (ties: lowest id).
+Index farthest(const std::vector<Index>& candidates, const std::vector<double>& d) {
+  Index best = kInvalid;
+  for (Index v : candidates)
+    if (best == kInvalid || d[v] > d[best] || (d[v] == d[best] && v < best)) best = v;
+  return best;
+}
+
+// Farthest-point sampling of `count` vertices of one vertex set, d holding
+// the distance to what is already there (the border; +inf where none).
+std::vector<SeedPoint> sample(const TriangleMesh& mesh, const MeshTopology& topo, std::vector<Index> vertices,
+                              const std::function<bool(Index)>& allowed, std::vector<double>& d, int count) {
+  std::vector<SeedPoint> out;
+  if (vertices.empty()) return out;
+  std::sort(vertices.begin(), vertices.end());
+  vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+  for (int k = 0; k < count; ++k) {
+    Index v = farthest(vertices, d);
+    if (std::isinf(d[v])) {
+      // No border: start from the vertex farthest from the lowest-numbered one.
+      std::vector<double> scratch(d.size(), kInf);
+      relax_from(mesh, topo, {vertices.front()}, allowed, scratch);
+      v = farthest(vertices, scratch);
+      if (std::isinf(scratch[v])) v = vertices.front();  // an isolated vertex
+    } else if (k > 0 && d[v] <= 0) {
+      break;  // nothing left away from the border and the earlier seeds
+    }
+    out.push_back({mesh.positions[v], d[v]});
+    relax_from(mesh, topo, {v}, allowed, d);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<std::vector<SeedPoint>> region_seed_points(const LoopArrangement& A, const Regions& G, int count) {
+  const TriangleMesh& mesh = A.mesh;
+  const MeshTopology& topo = A.topology;
+  const Index nv = mesh.num_vertices();
+  std::vector<double> d(nv, kInf);
+  std::vector<Index> border;
+  std::vector<std::uint8_t> on_border(nv, 0);
+  for (Index e = 0; e < topo.num_edges(); ++e)
+    if (A.separates(e))
+      for (Index v : topo.edges[e]) on_border[v] = 1;
+  for (Index v = 0; v < nv; ++v)
+    if (on_border[v]) border.push_back(v);
+  const auto inside = [&A](Index e) { return !A.separates(e); };
+  relax_from(mesh, topo, border, inside, d);
+
+  // Each region's vertices (a border vertex belongs to every region around it).
+  std::vector<std::vector<Index>> members(G.regions.size());
+  for (Index t = 0; t < mesh.num_triangles(); ++t) {
+    const Index r = G.triangle_region[t];
+    if (r == kInvalid) continue;
+    for (Index v : mesh.triangles[t]) members[r].push_back(v);
+  }
+  std::vector<std::vector<SeedPoint>> out(G.regions.size());
+  for (size_t r = 0; r < members.size(); ++r) out[r] = sample(mesh, topo, members[r], inside, d, count);
+  return out;
+}
+
+UncoveredArea largest_uncovered_area(const Surface& surface,
+                                     const std::vector<const std::vector<std::uint8_t>*>& covered) {
+  const TriangleMesh& mesh = surface.mesh;
+  const MeshTopology& topo = surface.topology;
+  const Index nt = mesh.num_triangles(), nv = mesh.num_vertices();
+  std::vector<std::uint8_t> any(nt, 0);
+  for (const auto* c : covered)
+    for (Index t = 0; t < nt && t < static_cast<Index>(c->size()); ++t) any[t] |= (*c)[t];
+
+  UncoveredArea out;
+  std::vector<double> area(nt);
+  for (Index t = 0; t < nt; ++t) {
+    const Tri& f = mesh.triangles[t];
+    area[t] = 0.5 * (mesh.positions[f[1]] - mesh.positions[f[0]]).cross(mesh.positions[f[2]] - mesh.positions[f[0]]).norm();
+    out.surface_area += area[t];
+    if (!any[t]) out.total_area += area[t];
+  }
+  // Edge-connected components of the uncovered triangles; keep the largest.
+  std::vector<Index> component(nt, kInvalid);
+  std::vector<Index> best_members;
+  double best_area = 0;
+  for (Index seed = 0; seed < nt; ++seed) {
+    if (any[seed] || component[seed] != kInvalid) continue;
+    std::vector<Index> members{seed}, stack{seed};
+    component[seed] = seed;
+    double a = 0;
+    while (!stack.empty()) {
+      const Index t = stack.back();
+      stack.pop_back();
+      a += area[t];
+      for (Index e : topo.triangle_edges[t])
+        for (Index u : topo.edge_triangles[e])
+          if (u != kInvalid && !any[u] && component[u] == kInvalid) {
+            component[u] = seed;
+            members.push_back(u);
+            stack.push_back(u);
+          }
+    }
+    if (a > best_area) best_area = a, best_members = std::move(members);
+  }
+  if (best_members.empty()) return out;
+  out.found = true;
+  out.area = best_area;
+
+  // Its point farthest from the covered triangles.
+  std::vector<double> d(nv, kInf);
+  std::vector<Index> sources;
+  std::vector<std::uint8_t> is_source(nv, 0);
+  for (Index t = 0; t < nt; ++t)
+    if (any[t])
+      for (Index v : mesh.triangles[t]) is_source[v] = 1;
+  for (Index v = 0; v < nv; ++v)
+    if (is_source[v]) sources.push_back(v);
+  const auto all = [](Index) { return true; };
+  relax_from(mesh, topo, sources, all, d);
+  std::vector<Index> vertices;
+  for (Index t : best_members)
+    for (Index v : mesh.triangles[t]) vertices.push_back(v);
+  const std::vector<SeedPoint> s = sample(mesh, topo, vertices, all, d, 1);
+  if (!s.empty()) out.seed = s.front();
+  return out;
+}
+
+}  // namespace stripweave

@@ -1,0 +1,51 @@
+// Seed points for automatic weaving (issue 6): where the next strip should
+// be proposed. The paper's tool leaves this to the user's eye (§4.2: the
+// colours guide the user to regions that need strips); automatic weaving
+// asks the same questions of the geometry.
+//
+// region_seed_points(arrangement, regions, count) -> per region, up to
+//   `count` points (normalized units) by farthest-point sampling inside the
+//   region: the first is the refined vertex farthest from the region's
+//   border (its loops and open boundary), i.e. its centre in the sense of
+//   the largest inscribed geodesic disc; each next one is farthest from the
+//   border and the earlier ones. Distances are shortest paths along refined
+//   mesh edges that do not cross the border. A region without border (no
+//   loops yet, a closed surface) starts from the vertex farthest from its
+//   lowest-numbered vertex. Deterministic: ties go to the lowest vertex id.
+//   The clearance (distance to the border, +inf without one) of each point
+//   comes with it.
+//
+// largest_uncovered_area(surface, covered) -> the largest edge-connected
+//   set of surface triangles that no strip covers (`covered`: per strip, per
+//   triangle 0/1), its area, the uncovered area in all, and its point
+//   farthest from every covered triangle (the place a new strip adds most
+//   coverage). Nothing uncovered: area 0 and no point.
+#pragma once
+
+#include "stripweave/layout/regions.h"
+
+#include <cstdint>
+#include <limits>
+
+namespace stripweave {
+
+struct SeedPoint {
+  Vec3 point = Vec3::Zero();
+  double clearance = std::numeric_limits<double>::infinity();
+};
+
+std::vector<std::vector<SeedPoint>> region_seed_points(const LoopArrangement& arrangement, const Regions& regions,
+                                                       int count);
+
+struct UncoveredArea {
+  double area = 0;        // of the largest uncovered component (normalized units squared)
+  double total_area = 0;  // of all uncovered triangles
+  double surface_area = 0;
+  bool found = false;
+  SeedPoint seed;
+};
+
+UncoveredArea largest_uncovered_area(const Surface& surface,
+                                     const std::vector<const std::vector<std::uint8_t>*>& covered);
+
+}  // namespace stripweave

@@ -1,0 +1,220 @@
+"""Automatic weaving (issue 6): complete a design strip by strip, as a user would.
+
+    ds = DesignSession(surface, design)         # empty or partial: the user's strips are kept
+    result = auto_weave(ds, WeaveOptions(max_strips=30))
+    result.log            # per added strip: why (region, colour, seed point) and what it did
+    result.assessment     # the final regions (weave_assessment)
+
+The paper's tool (§4) is interactive: the user hovers, the system proposes the best
+strip through the cursor (§5), the region colours (§4.2) say where strips are still
+needed. Automatic weaving plays the user: it picks seed points in the order
+    red regions (not discs: no valid layout yet), then orange (several singularities,
+    i.e. curvature extrema, in one region), then yellow (valence and curvature disagree),
+    then the largest area no strip covers,
+asks for the best compatible loop there (several seed points per region: its centre,
+then farthest-point samples; ranked alternatives when those fail), scores each proposal
+by the assessment it would give, adds the best one, and rejects an addition that makes
+the assessment worse. It stops when nothing is coloured and the uncovered area is small,
+when the patch target is reached, or at the strip limit.
+
+A strip is added as one directional anchor (a g' node of the proposed loop: point and
+tangent), so that re-deriving the design (DesignState) finds the same loop quickly and
+deterministically. The same design and options always give the same result. All geometry
+(regions, centres, uncovered areas, anchors) is native (`weave_assessment`, `loop_anchor`);
+this module only decides.
+"""
+import sys
+import time
+from dataclasses import dataclass, field
+
+from ._native import native
+
+COLOURS = ("red", "orange", "yellow")
+
+
+@dataclass
+class WeaveOptions:
+    """What automatic weaving aims at (see the module doc)."""
+    max_strips: int = 40            # strips in the design at most (the user's included)
+    patches: int = 0                # target patch count (0: as coarse as the colours allow)
+    uncovered: float = 0.04         # stop seeding uncovered areas below this fraction of the surface
+    seeds_per_region: int = 3       # seed points tried per region (centre first)
+    alternatives: int = 3           # ranked alternatives tried when no seed point helps
+    seed: int = 0                   # which seed point to try first (varies the result, deterministically)
+    time_limit_s: float = 24.0      # after this, only red regions are still worked on
+    verbose: bool = False           # progress on stderr
+
+    def check(self):
+        if self.max_strips < 0:
+            raise native.InputError(f"max strips must be 0 or more, got {self.max_strips}")
+        if self.patches < 0:
+            raise native.InputError(f"the patch target must be 0 (none) or more, got {self.patches}")
+        if not 0 <= self.uncovered <= 1:
+            raise native.InputError(f"the uncovered fraction must be within [0, 1], got {self.uncovered}")
+        if self.seeds_per_region < 1 or self.alternatives < 1:
+            raise native.InputError("seeds per region and alternatives must be at least 1")
+
+
+@dataclass
+class WeaveResult:
+    log: list = field(default_factory=list)      # per added strip: reason and effect
+    assessment: dict = None
+    stopped: str = ""                            # why weaving stopped
+    time_ms: float = 0.0
+
+
+def score(a):
+    """How far an assessment is from a good layout, smaller is better (compared as tuples):
+    first validity (red regions, weighted by how far from a disc they are), then the
+    regions the paper flags for quality (orange: extra singularities, yellow: valence
+    mismatch), then the coarseness (fewer regions)."""
+    red = sum(max(1, abs(1 - r["euler_characteristic"])) for r in a["regions"] if r["colour"] == "red")
+    orange = sum(max(0, r["singularities"] - 1) for r in a["regions"] if r["colour"] == "orange")
+    yellow = sum(abs(r["valence"] - r["ideal_valence"]) for r in a["regions"] if r["colour"] == "yellow")
+    return (red, orange + 0.5 * yellow)
+
+
+def seeds_in_order(a, options, skip):
+    """(reason, region id, colour, [points]) in the order the issue asks: red, orange, yellow
+    regions (each colour largest first), then the largest uncovered area."""
+    out = []
+    for colour in COLOURS:
+        regions = [(i, r) for i, r in enumerate(a["regions"]) if r["colour"] == colour]
+        for i, r in sorted(regions, key=lambda x: (-x[1]["area"], x[0])):
+            points = [p for p in r["seeds"] if _key(p) not in skip]
+            if points:
+                k = options.seed % len(points)
+                out.append((f"{colour} region", i, colour, points[k:] + points[:k]))
+    u = a["uncovered"]
+    if u["found"] and u["largest_area"] > options.uncovered * u["surface_area"] and _key(u["point"]) not in skip:
+        out.append(("uncovered area", -1, "uncovered", [u["point"]]))
+    return out
+
+
+def _key(p):
+    return tuple(round(float(x), 6) for x in p)
+
+
+def _say(options, text):
+    if options.verbose:
+        print(f"stripweave weave: {text}", file=sys.stderr, flush=True)
+
+
+class _Weaver:
+    def __init__(self, ds, options):
+        self.ds, self.options = ds, options
+        self.session = ds.loop_session.native
+
+    def assess(self, extra=()):
+        return native.weave_assessment(self.ds.native, list(extra), self.options.seeds_per_region)
+
+    def proposals(self, point, alternatives):
+        """Loops through the point compatible with every strip (§6.2), best first."""
+        self.ds.native.apply_mask()
+        try:
+            if alternatives <= 1:
+                return [self.session.best_loop(list(point), True)]
+            return list(self.session.loops([list(point)], alternatives, True))
+        except native.InputError:
+            return []
+        finally:
+            self.session.clear_disabled()
+
+    def candidates(self, points, alternatives):
+        """(score, cost, loop, point) of each proposal at each point, best first."""
+        out = []
+        for point in points:
+            for loop in self.proposals(point, alternatives):
+                a = self.assess([loop])
+                out.append((score(a), loop.cost, loop, point, a))
+        out.sort(key=lambda c: (c[0], c[1]))
+        return out
+
+    def add(self, loop, point):
+        """Add the loop as one directional anchor; None if the design rejects it."""
+        anchor = native.loop_anchor(self.session, loop, list(point))
+        try:
+            index = self.ds.add_strip([anchor])
+        except native.InputError:
+            return None
+        return index
+
+
+def auto_weave(ds, options=None):
+    """Complete the design of `ds` (a DesignSession) by adding strips; see the module doc.
+    The design's existing strips are kept, first and unchanged."""
+    options = options or WeaveOptions()
+    options.check()
+    w = _Weaver(ds, options)
+    start = time.perf_counter()
+    result = WeaveResult()
+    a = w.assess()
+    skip = set()          # seed points that gave nothing useful
+    stalls = 0            # consecutive red-phase additions that did not lower the score
+    user_strips = len(ds.design.strips)
+
+    def elapsed():
+        return time.perf_counter() - start
+
+    while True:
+        if len(ds.design.strips) >= options.max_strips:
+            result.stopped = "max strips"
+            break
+        current = score(a)
+        valid = a["colours"]["red"] == 0
+        if valid and options.patches and a["crossings"] >= options.patches:
+            result.stopped = "patch target"
+            break
+        seeds = seeds_in_order(a, options, skip)
+        if valid and elapsed() > options.time_limit_s:
+            result.stopped = "time limit"
+            break
+        if not seeds:
+            result.stopped = "done" if valid and not a["colours"]["orange"] + a["colours"]["yellow"] else "no seed helps"
+            break
+        reason, region, colour, points = seeds[0]
+        _say(options, f"strip {len(ds.design.strips) + 1}: {reason} {region} "
+                      f"(red {a['colours']['red']}, orange {a['colours']['orange']}, "
+                      f"yellow {a['colours']['yellow']}, {elapsed():.1f} s)")
+        added = None
+        for alternatives in (1, options.alternatives):
+            tried = points if alternatives == 1 else points[:1]
+            for s, cost, loop, point, predicted in w.candidates(tried, alternatives):
+                improves = s < current
+                if colour == "red" and not improves and s[0] <= current[0] and stalls < 2:
+                    improves = True   # a handle can take two loops to cut (a torus: meridian, then equator)
+                if colour == "uncovered":
+                    improves = s <= current   # coverage, without spoiling the colours
+                if not improves:
+                    break             # candidates are sorted: none after this one is better
+                index = w.add(loop, point)
+                if index is None:
+                    continue
+                after = w.assess()
+                if score(after) > current or (colour == "uncovered" and
+                                              after["uncovered"]["area"] >= a["uncovered"]["area"]):
+                    ds.remove_strip(index)   # the re-derived design is worse than predicted: reject
+                    continue
+                stalls = stalls + 1 if score(after)[0] >= current[0] and colour == "red" else 0
+                added = {"strip": index, "reason": reason, "region": region, "colour": colour,
+                         "seed": [float(x) for x in point], "anchor": list(ds.design.strips[index].anchors[0].to_list()),
+                         "cost": cost, "score_before": list(current), "score_after": list(score(after)),
+                         "time_s": round(elapsed(), 3)}
+                a = after
+                break
+            if added:
+                break
+        if added:
+            ds.design.strips[added["strip"]].extra["added_by"] = {
+                k: added[k] for k in ("reason", "region", "colour", "seed")}
+            result.log.append(added)
+            continue
+        for p in points:      # nothing helped from this region's seeds: do not ask again
+            skip.add(_key(p))
+
+    result.assessment = a
+    result.time_ms = elapsed() * 1000.0
+    _say(options, f"{result.stopped}: {len(ds.design.strips)} strips ({user_strips} given, "
+                  f"{len(result.log)} added), red {a['colours']['red']}, orange {a['colours']['orange']}, "
+                  f"yellow {a['colours']['yellow']}, {elapsed():.1f} s")
+    return result
