@@ -6,6 +6,9 @@
                     [--design D.json]   ... compatible with the design's strips (§6.2)
     stripweave strips MODEL --design D.json --out DIR [--json]
                                          cross field, parameterization and strips -> DIR/strips.json
+    stripweave weave MODEL [--design D.json] [--auto] --out DIR [--step] [--json]
+                    [--max-strips N] [--patches N] [--no-features] [--boundary aligned|trimmed] [--seed S]
+                                         the main job: (automatic) design, layout, report, preview.png
     stripweave bench MODEL [--repeat N]  stage timings and sizes, JSON
 
 MODEL is STEP/STP, IGES/IGS, BREP/BRP, STL, OBJ, OFF, PLY, or an FCStd with
@@ -133,6 +136,40 @@ def cmd_bench(args):
     return 0
 
 
+def cmd_weave(args):
+    from .job import weave
+    if args.design is None and not args.auto:
+        raise _input_error("weave needs --design D.json, --auto, or both")
+    result = weave(args.model, design=args.design, auto=args.auto, out=args.out, max_strips=args.max_strips,
+                   patches=args.patches, features=not args.no_features, boundary=args.boundary, seed=args.seed,
+                   step=args.step, verbose=True, target_triangles=args.target_triangles,
+                   feature_angle_deg=args.feature_angle)
+    report = {k: v for k, v in result.items() if k not in ("surface", "design", "log")}
+    if args.json:
+        print(json.dumps(report))
+        return 0
+    c = result["regions"]
+    irregular = ", ".join(f"{n} of valence {v}" for v, n in result["irregular_vertices"].items()) or "none"
+    print(f"{'valid' if result['valid'] else 'NOT valid'} layout: {result['strips']} strips, "
+          f"{result['patches']} patches; regions red {c['red']}, orange {c['orange']}, yellow {c['yellow']}, "
+          f"fine {c['none']}")
+    print(f"irregular vertices: {irregular}; corner deviation mean "
+          f"{result['corner_deviation_deg']['mean']:.1f} deg, max {result['corner_deviation_deg']['max']:.1f} deg")
+    for entry in result["log"]:
+        print(f"  strip {entry['strip'] + 1}: for the {entry['reason']}"
+              f"{'' if entry['region'] < 0 else ' ' + str(entry['region'])} at "
+              f"({', '.join(f'{x:.4g}' for x in entry['seed'])})")
+    print(f"weaving stopped: {result['stopped']}; took {result['timings_ms']['total'] / 1000:.1f} s")
+    for name, path in result["paths"].items():
+        print(f"wrote {path}")
+    return 0
+
+
+def _input_error(text):
+    from ._native import native
+    return native.InputError(text)
+
+
 def build_parser():
     parser = argparse.ArgumentParser(prog="stripweave", description="Dual Strip Weaving quad layouts")
     sub = parser.add_subparsers(dest="command", required=True)
@@ -165,6 +202,25 @@ def build_parser():
     p.add_argument("--json", action="store_true", help="machine-readable summary")
     _add_surface_options(p)
     p.set_defaults(run=cmd_strips)
+
+    p = sub.add_parser("weave", help="the main job: weave a quad layout (automatically) and write "
+                                     "design.json, layout.json, report.json, preview.png")
+    p.add_argument("model")
+    p.add_argument("--design", metavar="D.json", help="start from this design (its strips are kept, first)")
+    p.add_argument("--auto", action="store_true", help="complete the design automatically")
+    p.add_argument("--out", metavar="DIR", required=True, help="folder for the outputs")
+    p.add_argument("--step", action="store_true", help="also fit NURBS patches and write DIR/patches.step")
+    p.add_argument("--max-strips", type=int, default=40, help="strips at most, the given ones included")
+    p.add_argument("--patches", "--coarseness", type=int, default=0, metavar="N",
+                   help="target patch count (default 0: as coarse as the assessment allows)")
+    p.add_argument("--no-features", action="store_true", help="do not align the field to sharp features")
+    p.add_argument("--boundary", choices=("aligned", "trimmed"), default=None,
+                   help="dual curves meet open boundaries orthogonally (aligned) or at any angle (trimmed); "
+                        "default: the design's, else aligned")
+    p.add_argument("--seed", type=int, default=0, help="vary which seed points are tried first (deterministic)")
+    p.add_argument("--json", action="store_true", help="print report.json's content (plus paths) on stdout")
+    _add_surface_options(p)
+    p.set_defaults(run=cmd_weave)
 
     p = sub.add_parser("bench", help="time every pipeline stage (JSON)")
     p.add_argument("model")

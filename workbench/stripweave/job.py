@@ -1,0 +1,183 @@
+"""The main job (issue 6): part in, layout out. `stripweave.weave(...)` and `stripweave weave`.
+
+    import stripweave as sw
+    report = sw.weave("part.step", out="woven")            # automatic, from an empty design
+    report = sw.weave(shape, design="design.json", auto=True, out="woven", max_strips=30)
+    report["valid"], report["patches"], report["paths"]["preview"]
+
+Stages: surface (load, remesh) -> loop engine (elastica graph) -> design (the given strips,
+re-derived) -> weave (automatic completion, weave.py) -> layout (regions and the primal
+quad layout, layout.compute_layout) -> files. With `out`, writes
+    design.json   the design (reloads; hand-editable; auto-added strips say why in "added_by")
+    layout.json   regions, vertices, edges, patches (design.md)
+    report.json   exactly the keys of design.md
+    preview.png   the layout on the shaded model (preview.py)
+    patches.step  with step=True, when the build has the surfacing stage
+The returned dict is report.json's content plus "paths", "log" (one entry per added
+strip) and "stopped" (why weaving ended).
+"""
+import json
+import os
+import sys
+import time
+
+from ._native import native
+from .design import Design
+from .strips import DesignSession
+from .weave import WeaveOptions, auto_weave
+
+REPORT_KEYS = ("valid", "strips", "patches", "regions", "irregular_vertices", "corner_deviation_deg",
+               "bbox_diagonal", "timings_ms")
+
+
+def _surface_of(model, progress, surface_options):
+    from .surface import from_shape, load
+    if isinstance(model, native.Surface):
+        return model
+    if isinstance(model, (str, os.PathLike)):
+        if not os.path.exists(model):
+            raise native.InputError(f"model file {os.fspath(model)} does not exist")
+        return load(model, progress=progress, **surface_options)
+    if hasattr(model, "exportBrepToString") or (hasattr(model, "Shape") and hasattr(model.Shape, "exportBrepToString")):
+        return from_shape(getattr(model, "Shape", model), progress=progress, **surface_options)
+    raise native.InputError(f"weave needs a model file, a Part shape or a Surface, got {type(model).__name__}")
+
+
+def _layout_of(ds):
+    """layout.json's content: layout.compute_layout where the build has it; else the regions
+    alone (no primal layout: empty vertices, edges and patches)."""
+    try:
+        from .layout import compute_layout
+    except ImportError:
+        compute_layout = None
+    if compute_layout is not None:
+        return compute_layout(ds)
+    start = time.perf_counter()
+    sing = ds.singularities()
+    r = native.regions(ds.loop_session.native, native.design_loops(ds.native), [x["vertex"] for x in sing],
+                       [round(4 * x["index"]) for x in sing], False)
+    keys = ("valence", "disc", "colour", "total_curvature")
+    ms = (time.perf_counter() - start) * 1000.0
+    return {"regions": [{k: g[k] for k in keys} for g in r["regions"]], "valid": bool(r["valid"]),
+            "vertices": [], "edges": [], "patches": [],
+            "summary": {"patches": 0, "irregular_vertices": {}, "corner_deviation_deg": {"mean": 0.0, "max": 0.0},
+                        "euler": {}},
+            "timings_ms": {"regions": ms, "layout": 0.0}}
+
+
+def make_report(ds, layout, timings_ms):
+    """report.json (design.md): the figures come from layout.json, so they always agree."""
+    colours = {"red": 0, "orange": 0, "yellow": 0, "none": 0}
+    for g in layout["regions"]:
+        colours[g["colour"]] += 1
+    summary = layout.get("summary", {})
+    irregular = {str(k): int(v) for k, v in sorted(summary.get("irregular_vertices", {}).items(),
+                                                    key=lambda kv: int(kv[0]))}
+    deviation = summary.get("corner_deviation_deg", {"mean": 0.0, "max": 0.0})
+    return {"valid": bool(layout["valid"]), "strips": len(ds.design.strips), "patches": len(layout["patches"]),
+            "regions": colours, "irregular_vertices": irregular,
+            "corner_deviation_deg": {"mean": float(deviation["mean"]), "max": float(deviation["max"])},
+            "bbox_diagonal": float(ds.design.model.get("bbox_diagonal") or ds.surface.report()["bbox_diagonal"]),
+            "timings_ms": {k: round(float(v), 1) for k, v in timings_ms.items()}}
+
+
+def _export_step(surface, layout, tolerance, path):
+    """Fit NURBS patches to the layout and write them as STEP (the surfacing stage, built
+    separately). Returns the fit figures of report.json."""
+    if not hasattr(native, "refit"):
+        raise native.InputError("STEP export not available in this build")
+    return dict(native.refit(surface, layout, tolerance, path))
+
+
+def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, features=True, boundary=None,
+          seed=0, step=False, tolerance=None, verbose=False, progress=None, target_triangles=30000,
+          feature_angle_deg=None, preview=True, **weave_options):
+    """Weave a quad layout on a model; see the module doc.
+
+    model       a model file path, a Part shape (or object with .Shape) or a Surface
+    design      None (start empty), a Design, or a design.json path: its strips are kept, first
+    auto        complete the design automatically (False: just evaluate the given design)
+    out         folder for design.json, layout.json, report.json, preview.png (None: write nothing)
+    max_strips  strips at most (the given ones included); patches: target patch count (0: coarse)
+    features    align to sharp feature curves; boundary: "aligned" | "trimmed" (default: the design's)
+    seed        varies which seed points are tried first (deterministic)
+    step        also fit patches and write patches.step (needs the surfacing stage)
+    """
+    timings = {}
+    clock = time.perf_counter()
+
+    def lap(stage):
+        nonlocal clock
+        now = time.perf_counter()
+        timings[stage] = timings.get(stage, 0.0) + (now - clock) * 1000.0
+        clock = now
+
+    def say(text):
+        if verbose:
+            print(f"stripweave weave: {text}", file=sys.stderr, flush=True)
+
+    if isinstance(design, (str, os.PathLike)):
+        design = Design.load(design)
+    design = design.copy() if design is not None else Design()
+    if boundary is not None:
+        if boundary not in ("aligned", "trimmed"):
+            raise native.InputError(f"boundary must be 'aligned' or 'trimmed', got {boundary!r}")
+        design.options["boundary"] = boundary
+    surface_options = {"target_triangles": target_triangles,
+                       "feature_angle_deg": float(feature_angle_deg if feature_angle_deg is not None
+                                                  else design.options["feature_angle_deg"])}
+    say("loading the model")
+    surface = _surface_of(model, progress, surface_options)
+    lap("surface")
+    if isinstance(model, (str, os.PathLike)):
+        design.model.setdefault("path", os.path.abspath(os.fspath(model)))
+    design.model["bbox_diagonal"] = surface.report()["bbox_diagonal"]
+    say(f"{len(surface.triangles)} triangles; building the elastica graph")
+    from .loops import LoopSession
+    loop_session = LoopSession(surface, progress=progress, **design.loop_options())
+    lap("graph")
+    given = len(design.strips)
+    ds = DesignSession(surface, design, loop_session=loop_session, features=features)
+    lap("design")
+    log, stopped = [], "not asked (auto off)"
+    if auto:
+        result = auto_weave(ds, WeaveOptions(max_strips=max_strips, patches=patches, seed=seed, verbose=verbose,
+                                             **weave_options))
+        log, stopped = result.log, result.stopped
+    lap("weave")
+    say("primal layout")
+    layout = _layout_of(ds)
+    lap("layout")
+    report = make_report(ds, layout, {})
+    paths = {}
+    if out is not None:
+        os.makedirs(out, exist_ok=True)
+        paths = {name: os.path.join(out, f"{name}.{ext}") for name, ext in
+                 (("design", "json"), ("layout", "json"), ("report", "json"), ("preview", "png"))}
+        ds.design.save(paths["design"])
+        with open(paths["layout"], "w", encoding="utf-8") as f:
+            json.dump(layout, f)
+        if preview:
+            say("rendering preview.png")
+            from .preview import render_design
+            render_design(paths["preview"], ds, layout)
+            lap("preview")
+        else:
+            del paths["preview"]
+        if step:
+            say("fitting patches (STEP)")
+            paths["step"] = os.path.join(out, "patches.step")
+            tol = tolerance if tolerance is not None else 1e-3 * report["bbox_diagonal"]
+            report["fit"] = _export_step(surface, layout, tol, paths["step"])
+            lap("step")
+    timings.update({f"strips_{k}": v for k, v in ds.timings_ms().items()})
+    timings.update({f"layout_{k}": v for k, v in layout.get("timings_ms", {}).items()})
+    timings["total"] = sum(v for k, v in timings.items() if "_" not in k)
+    report["timings_ms"] = {k: round(float(v), 1) for k, v in timings.items()}
+    if out is not None:
+        with open(paths["report"], "w", encoding="utf-8") as f:
+            json.dump(report, f, indent=2)
+            f.write("\n")
+    say(f"{report['strips']} strips ({given} given), {report['patches']} patches, "
+        f"{'valid' if report['valid'] else 'INVALID'}, {timings['total'] / 1000:.1f} s")
+    return {**report, "paths": paths, "log": log, "stopped": stopped, "surface": surface, "design": ds.design}

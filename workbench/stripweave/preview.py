@@ -1,0 +1,259 @@
+"""preview.png: a layout drawn on the shaded model, rendered offscreen (issue 6).
+
+    render_preview(path, vertices, triangles, normals, stripes=[...], tints=..., lines=[...])
+    render_design(path, ds, layout=None)     # what `stripweave weave` writes
+
+People look at layouts; they do not read them. The picture shows the part shaded (Lambert,
+two-sided), each strip as its stripe pattern (paper §4.2: quasi-parallel isocurves of the
+strip map, so crossing strips form a grid), the region colours of the assessment as a tint
+(red, orange, yellow), and patch edges (or, without a layout, the dual loops) as lines.
+
+This is a small software renderer on purpose: no display, no FreeCAD GUI, no dependency
+beyond numpy and zlib. Triangles are rasterized in an orthographic view by binning them by
+bounding-box size and testing every pixel of each bin's box at once (numpy), a z-buffer
+keeps the nearest sample, and pixels are shaded from their triangle and barycentrics. Lines
+are sampled at half-pixel steps and kept where they are not behind the surface (with a small
+depth offset so lines on the surface win). It is the display of data the native side has
+computed, not geometry of its own: the view is chosen among the eight isometric directions as
+the one that sees the most surface area.
+"""
+import struct
+import zlib
+
+import numpy as np
+
+BACKGROUND = np.array([255, 255, 255], float)
+BASE = np.array([0.80, 0.82, 0.85])
+TINTS = {"red": (0.95, 0.25, 0.2), "orange": (1.0, 0.6, 0.15), "yellow": (0.98, 0.9, 0.25)}
+# Strip hues: distinct, darkish, so stripes read on the light base.
+HUES = np.array([(0.12, 0.38, 0.75), (0.1, 0.55, 0.3), (0.6, 0.2, 0.6), (0.0, 0.5, 0.6), (0.45, 0.35, 0.1),
+                 (0.75, 0.3, 0.1), (0.3, 0.3, 0.65), (0.2, 0.5, 0.1)])
+
+
+# --- the view ------------------------------------------------------------------
+
+def best_view(vertices, triangles):
+    """The isometric direction (to the eye) that sees the most surface area: projected area of
+    the triangles facing it. Ties go to views from above (+z), then to the first listed."""
+    v = np.asarray(vertices, float)
+    t = np.asarray(triangles)
+    n = np.cross(v[t[:, 1]] - v[t[:, 0]], v[t[:, 2]] - v[t[:, 0]])  # 2 x area, outward
+    best, best_seen = None, -1.0
+    for sz in (1, -1):
+        for sx in (1, -1):
+            for sy in (-1, 1):
+                d = np.array([sx, sy, sz], float) / np.sqrt(3)
+                seen = np.clip(n @ d, 0, None).sum()
+                if seen > best_seen * (1 + 1e-3):
+                    best, best_seen = d, seen
+    return best
+
+
+def camera(view, vertices, width, height, margin=0.06):
+    """Orthographic camera: (right, up, view) axes and the map model -> pixel (x, y, depth)."""
+    view = np.asarray(view, float) / np.linalg.norm(view)
+    up0 = np.array([0, 0, 1.0]) if abs(view[2]) < 0.95 else np.array([0, 1.0, 0])
+    right = np.cross(up0, view)
+    right /= np.linalg.norm(right)
+    up = np.cross(view, right)
+    v = np.asarray(vertices, float)
+    x, y = v @ right, v @ up
+    span = max((x.max() - x.min()) / width, (y.max() - y.min()) / height) / (1 - 2 * margin)
+    cx, cy = (x.max() + x.min()) / 2, (y.max() + y.min()) / 2
+
+    def project(p):
+        p = np.asarray(p, float)
+        return np.stack([(p @ right - cx) / span + width / 2, height / 2 - (p @ up - cy) / span, -(p @ view)], -1)
+    return project, span
+
+
+# --- rasterization --------------------------------------------------------------
+
+def rasterize(screen, triangles, width, height):
+    """Per pixel the nearest triangle (or -1) and its barycentrics; depth buffer."""
+    s = np.asarray(screen, float)
+    t = np.asarray(triangles)
+    p0, p1, p2 = s[t[:, 0]], s[t[:, 1]], s[t[:, 2]]
+    area = (p1[:, 0] - p0[:, 0]) * (p2[:, 1] - p0[:, 1]) - (p2[:, 0] - p0[:, 0]) * (p1[:, 1] - p0[:, 1])
+    keep = np.abs(area) > 1e-12
+    lo = np.floor(np.minimum(np.minimum(p0, p1), p2)[:, :2]).astype(int)
+    hi = np.ceil(np.maximum(np.maximum(p0, p1), p2)[:, :2]).astype(int)
+    size = np.maximum(hi - lo + 1, 1).max(axis=1)
+    bins = np.where(keep, np.ceil(np.log2(size)).astype(int), -1)
+    pix_list, depth_list, tri_list, bary_list = [], [], [], []
+    for b in np.unique(bins[bins >= 0]):
+        ids = np.nonzero(bins == b)[0]
+        B = 1 << int(b)
+        oy, ox = np.mgrid[0:B, 0:B]
+        off = np.stack([ox.ravel(), oy.ravel()], 1)  # (B*B, 2)
+        chunk = max(1, 4_000_000 // (B * B))
+        for k in range(0, len(ids), chunk):
+            c = ids[k:k + chunk]
+            px = lo[c, None, 0] + off[None, :, 0]
+            py = lo[c, None, 1] + off[None, :, 1]
+            sx, sy = px + 0.5, py + 0.5
+            a0, a1, a2 = p0[c], p1[c], p2[c]
+            inv = 1.0 / area[c][:, None]
+            w0 = ((a1[:, None, 0] - sx) * (a2[:, None, 1] - sy) - (a2[:, None, 0] - sx) * (a1[:, None, 1] - sy)) * inv
+            w1 = ((a2[:, None, 0] - sx) * (a0[:, None, 1] - sy) - (a0[:, None, 0] - sx) * (a2[:, None, 1] - sy)) * inv
+            w2 = 1 - w0 - w1
+            inside = (w0 >= -1e-9) & (w1 >= -1e-9) & (w2 >= -1e-9) & (px >= 0) & (py >= 0) & (px < width) & (py < height)
+            r, j = np.nonzero(inside)
+            if not len(r):
+                continue
+            bw = np.stack([w0[r, j], w1[r, j], w2[r, j]], 1)
+            tri = c[r]
+            z = bw[:, 0] * a0[r, 2] + bw[:, 1] * a1[r, 2] + bw[:, 2] * a2[r, 2]
+            pix_list.append(py[r, j] * width + px[r, j])
+            depth_list.append(z)
+            tri_list.append(tri)
+            bary_list.append(bw)
+    tri_img = np.full(width * height, -1, np.int64)
+    bary = np.zeros((width * height, 3))
+    depth = np.full(width * height, np.inf)
+    if pix_list:
+        pix = np.concatenate(pix_list)
+        z = np.concatenate(depth_list)
+        order = np.lexsort((z, pix))     # by pixel, nearest first
+        pix, first = np.unique(pix[order], return_index=True)
+        win = order[first]
+        tri_img[pix] = np.concatenate(tri_list)[win]
+        bary[pix] = np.concatenate(bary_list)[win]
+        depth[pix] = z[win]
+    return tri_img, bary, depth
+
+
+def draw_lines(image, depth, project, polylines, colour, width_px=1.5, offset=0.0):
+    """Polylines (model units) with a depth test against the surface (offset toward the eye)."""
+    H, W = image.shape[:2]
+    segs = []
+    for line in polylines:
+        q = project(np.asarray(line, float))
+        if len(q) >= 2:
+            segs.append(np.stack([q[:-1], q[1:]], 1))
+    if not segs:
+        return
+    s = np.concatenate(segs)
+    length = np.linalg.norm(s[:, 1, :2] - s[:, 0, :2], axis=1)
+    n = np.maximum(1, np.ceil(length / 0.5).astype(int))
+    seg = np.repeat(np.arange(len(s)), n + 1)
+    u = np.concatenate([np.linspace(0, 1, k + 1) for k in n]) if len(n) < 2000 else \
+        (np.arange(len(seg)) - np.repeat(np.cumsum(n + 1) - (n + 1), n + 1)) / np.repeat(n, n + 1)
+    pts = s[seg, 0] + (s[seg, 1] - s[seg, 0]) * u[:, None]
+    r = width_px / 2
+    stamps = [(dx, dy) for dx in np.arange(-np.ceil(r), np.ceil(r) + 1) for dy in np.arange(-np.ceil(r), np.ceil(r) + 1)
+              if dx * dx + dy * dy <= r * r + 0.25]
+    for dx, dy in stamps:
+        x = np.floor(pts[:, 0] + dx).astype(int)
+        y = np.floor(pts[:, 1] + dy).astype(int)
+        ok = (x >= 0) & (y >= 0) & (x < W) & (y < H)
+        x, y, z = x[ok], y[ok], pts[ok, 2]
+        visible = z <= depth.reshape(H, W)[y, x] + offset
+        image[y[visible], x[visible]] = colour
+
+
+# --- shading ---------------------------------------------------------------------
+
+def shade(tri_img, bary, vertices, triangles, normals, light, stripes, tints, stripe_period):
+    """RGB per pixel (float 0..1): Lambert on the base colour, region tint, stripe lines."""
+    hit = tri_img >= 0
+    t = tri_img[hit]
+    b = bary[hit]
+    tris = np.asarray(triangles)[t]
+    n = np.asarray(normals, float)
+    nn = (n[tris] * b[:, :, None]).sum(1)
+    nn /= np.maximum(np.linalg.norm(nn, axis=1, keepdims=True), 1e-12)
+    # At sharp features the vertex normals average across the crease and blur it: there
+    # the triangle's own normal shows the edge as a CAD user expects.
+    v = np.asarray(vertices, float)
+    tv = v[tris]
+    fn = np.cross(tv[:, 1] - tv[:, 0], tv[:, 2] - tv[:, 0])
+    fn /= np.maximum(np.linalg.norm(fn, axis=1, keepdims=True), 1e-30)
+    crease = np.abs((fn * nn).sum(1)) < 0.9
+    nn[crease] = fn[crease]
+    lambert = 0.35 + 0.65 * np.abs(nn @ light)   # two-sided: open surfaces show their back
+    base = np.tile(BASE, (len(t), 1))
+    if tints is not None:
+        tint = np.asarray(tints, float)[t]             # per triangle RGB, NaN for none
+        has = ~np.isnan(tint[:, 0])
+        base[has] = 0.45 * base[has] + 0.55 * tint[has]
+    rgb = base * lambert[:, None]
+    for i, corners in enumerate(stripes):
+        across = (corners[t, :, 1] * b).sum(1)         # per triangle corner (along, across)
+        inside = ~np.isnan(across)
+        phase = np.abs(((across[inside] / stripe_period) + 0.5) % 1.0 - 0.5)  # 0 on a stripe line
+        line = np.clip(1.6 - phase * 8.0, 0, 1) * 0.85
+        hue = HUES[i % len(HUES)]
+        idx = np.nonzero(inside)[0]
+        rgb[idx] = rgb[idx] * (1 - line[:, None]) + hue * lambert[idx, None] * line[:, None]
+    out = np.tile(BACKGROUND / 255.0, (len(tri_img), 1))
+    out[hit] = rgb
+    return out
+
+
+def write_png(path, image):
+    """An 8-bit RGB PNG (image: H x W x 3 uint8)."""
+    h, w, _ = image.shape
+    raw = b"".join(b"\x00" + image[y].tobytes() for y in range(h))
+
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+    with open(path, "wb") as f:
+        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0))
+                + chunk(b"IDAT", zlib.compress(raw, 6)) + chunk(b"IEND", b""))
+
+
+def render_preview(path, vertices, triangles, normals, stripes=(), tints=None, lines=(), thin_lines=(),
+                   view=None, width=1024, height=768, stripe_period=None, supersample=2):
+    """Render and write the picture; returns the view direction used."""
+    vertices = np.asarray(vertices, float)
+    view = best_view(vertices, triangles) if view is None else np.asarray(view, float)
+    W, H = width * supersample, height * supersample
+    project, span = camera(view, vertices, W, H)
+    screen = project(vertices)
+    # Light from the upper left of the viewer, so faces of a box get distinct tones.
+    o = project(np.zeros((1, 3)))[0]
+    right = project(np.eye(3))[:, 0] - o[0]
+    up = -(project(np.eye(3))[:, 1] - o[1])
+    light = view / np.linalg.norm(view) - 0.45 * right / np.linalg.norm(right) + 0.7 * up / np.linalg.norm(up)
+    light /= np.linalg.norm(light)
+    tri_img, bary, depth = rasterize(screen, triangles, W, H)
+    diag = np.linalg.norm(vertices.max(0) - vertices.min(0))
+    period = stripe_period or diag / 70.0
+    img = shade(tri_img, bary, vertices, triangles, normals, light, stripes, tints, period)
+    img = img.reshape(H, W, 3)
+    offset = 2.5 * span * supersample + 1e-3 * diag   # lines on the surface win against it
+    for polylines, colour, w in ((thin_lines, (0.25, 0.25, 0.3), 1.0), (lines, (0.08, 0.08, 0.1), 2.2)):
+        draw_lines(img, depth, project, polylines, np.array(colour), width_px=w * supersample, offset=offset)
+    if supersample > 1:
+        img = img.reshape(height, supersample, width, supersample, 3).mean(axis=(1, 3))
+    write_png(path, np.clip(img * 255 + 0.5, 0, 255).astype(np.uint8))
+    return view
+
+
+def render_design(path, ds, layout=None, regions=None, **kw):
+    """The preview of a DesignSession: its strips' stripes, the region colours (from `regions`,
+    native.regions(..., details=True), or computed here) and the layout's patch edges (or the
+    loops when there is no layout)."""
+    from ._native import native
+    s = ds.surface
+    if regions is None:
+        loops = native.design_loops(ds.native)
+        sing = ds.singularities()
+        regions = native.regions(ds.loop_session.native, loops, [x["vertex"] for x in sing],
+                                 [round(4 * x["index"]) for x in sing], True)
+    tints = np.full((len(s.triangles), 3), np.nan)
+    if "triangle_region" in regions:
+        colour = [r["colour"] for r in regions["regions"]]
+        parent = np.asarray(regions["parent_triangle"])
+        reg = np.asarray(regions["triangle_region"])
+        for name, rgb in TINTS.items():
+            hit = np.array([c == name for c in colour] + [False])[np.where(reg < 0, len(colour), reg)]
+            tints[parent[hit]] = rgb
+    stripes = [ds.native.strip_coordinates(i) for i in range(ds.native.strip_count)]
+    loops = [st["points"] for st in ds.strips()]
+    edges = [e["points"] for e in (layout or {}).get("edges", [])]
+    if edges:
+        return render_preview(path, s.vertices, s.triangles, s.normals, stripes, tints, lines=edges,
+                              thin_lines=loops, **kw)
+    return render_preview(path, s.vertices, s.triangles, s.normals, stripes, tints, lines=loops, **kw)
