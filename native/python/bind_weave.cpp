@@ -7,7 +7,8 @@
 // weave_assessment(design_state, extra_loops=[], seeds_per_region=3) -> dict
 //   The regions (paper §4.2) of the design's loops plus `extra_loops`, with
 //   the design's cross-field singularities (a candidate loop moves them a
-//   little; that is ignored), without the refined mesh. Keys (model units):
+//   little; that is ignored), without the refined mesh. seeds_per_region=0
+//   skips the seeds and the coverage (scoring a candidate). Keys (model units):
 //     regions   [{"valence", "disc", "colour", "total_curvature",
 //                 "ideal_valence", "area", "singularities" (count),
 //                 "seeds": [[x,y,z], ...], "clearance": [...]}]
@@ -56,7 +57,7 @@ void bind_weave(py::module_& m) {
       py::arg("design_state"), "The design's loops in strip order");
 
   m.def("weave_assessment", [](DesignState& d, const std::vector<Loop>& extra, int seeds_per_region) {
-        if (seeds_per_region < 1) throw InputError("seeds_per_region must be at least 1");
+        if (seeds_per_region < 0) throw InputError("seeds_per_region must be 0 (no seeds) or more");
         const Surface& s = d.surface();
         const double scale = s.similarity.scale, scale2 = scale * scale;
         LoopArrangement arrangement;
@@ -76,8 +77,12 @@ void bind_weave(py::module_& m) {
           for (const Loop& loop : extra) paths.push_back(loop_path(d.session(), loop));
           arrangement = build_loop_arrangement(s, paths);
           regions = compute_regions(s, arrangement, d.field().singularities);
-          seeds = region_seed_points(arrangement, regions, seeds_per_region);
-          uncovered = largest_uncovered_area(s, covered);
+          // Scoring a candidate needs neither seeds nor coverage (seeds_per_region = 0).
+          seeds.resize(regions.regions.size());
+          if (seeds_per_region > 0) {
+            seeds = region_seed_points(arrangement, regions, seeds_per_region);
+            uncovered = largest_uncovered_area(s, covered);
+          }
           ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         }
         py::list list;

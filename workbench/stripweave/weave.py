@@ -23,13 +23,17 @@ deterministically. The same design and options always give the same result. All 
 (regions, centres, uncovered areas, anchors) is native (`weave_assessment`, `loop_anchor`);
 this module only decides.
 """
+import os
 import sys
+import threading
 import time
 from dataclasses import dataclass, field
 
 from ._native import native
 
 COLOURS = ("red", "orange", "yellow")
+# STRIPWEAVE_WEAVE_DEBUG=path: save each design before it is derived (to replay a crash).
+_DEBUG_DESIGN = os.environ.get("STRIPWEAVE_WEAVE_DEBUG")
 
 
 @dataclass
@@ -41,7 +45,8 @@ class WeaveOptions:
     seeds_per_region: int = 3       # seed points tried per region (centre first)
     alternatives: int = 3           # ranked alternatives tried when no seed point helps
     seed: int = 0                   # which seed point to try first (varies the result, deterministically)
-    time_limit_s: float = 24.0      # after this, only red regions are still worked on
+    time_limit_s: float = 22.0      # after this, only red regions are still worked on
+    query_timeout_s: float = 6.0    # a loop query running longer is cancelled (no proposal there)
     verbose: bool = False           # progress on stderr
 
     def check(self):
@@ -86,7 +91,9 @@ def seeds_in_order(a, options, skip):
                 k = options.seed % len(points)
                 out.append((f"{colour} region", i, colour, points[k:] + points[:k]))
     u = a["uncovered"]
-    if u["found"] and u["largest_area"] > options.uncovered * u["surface_area"] and _key(u["point"]) not in skip:
+    # No crossing yet means no patch at all (a disc cut by nothing is "valid"): keep weaving.
+    wanted = u["largest_area"] > options.uncovered * u["surface_area"] or a["crossings"] == 0
+    if u["found"] and wanted and _key(u["point"]) not in skip:
         out.append(("uncovered area", -1, "uncovered", [u["point"]]))
     return out
 
@@ -105,19 +112,24 @@ class _Weaver:
         self.ds, self.options = ds, options
         self.session = ds.loop_session.native
 
-    def assess(self, extra=()):
-        return native.weave_assessment(self.ds.native, list(extra), self.options.seeds_per_region)
+    def assess(self, extra=(), seeds=True):
+        return native.weave_assessment(self.ds.native, list(extra), self.options.seeds_per_region if seeds else 0)
 
     def proposals(self, point, alternatives):
-        """Loops through the point compatible with every strip (§6.2), best first."""
+        """Loops through the point compatible with every strip (§6.2), best first. A query
+        that runs past the timeout is cancelled: some points (a cusp, a narrow neck under
+        many strips) admit no good loop, and waiting for it would stall the whole weave."""
         self.ds.native.apply_mask()
+        watchdog = threading.Timer(self.options.query_timeout_s, self.session.cancel)
+        watchdog.start()
         try:
             if alternatives <= 1:
                 return [self.session.best_loop(list(point), True)]
             return list(self.session.loops([list(point)], alternatives, True))
-        except native.InputError:
+        except (native.InputError, native.Cancelled):
             return []
         finally:
+            watchdog.cancel()
             self.session.clear_disabled()
 
     def candidates(self, points, alternatives):
@@ -125,7 +137,7 @@ class _Weaver:
         out = []
         for point in points:
             for loop in self.proposals(point, alternatives):
-                a = self.assess([loop])
+                a = self.assess([loop], seeds=False)
                 out.append((score(a), loop.cost, loop, point, a))
         out.sort(key=lambda c: (c[0], c[1]))
         return out
@@ -133,6 +145,10 @@ class _Weaver:
     def add(self, loop, point):
         """Add the loop as one directional anchor; None if the design rejects it."""
         anchor = native.loop_anchor(self.session, loop, list(point))
+        if _DEBUG_DESIGN:   # the design about to be derived, for reproducing native failures
+            d = self.ds.design.copy()
+            d.add_strip([anchor])
+            d.save(_DEBUG_DESIGN)
         try:
             index = self.ds.add_strip([anchor])
         except native.InputError:
@@ -185,14 +201,19 @@ def auto_weave(ds, options=None):
                     improves = True   # a handle can take two loops to cut (a torus: meridian, then equator)
                 if colour == "uncovered":
                     improves = s <= current   # coverage, without spoiling the colours
+                    if not improves and a["crossings"] == 0 and s[0] <= current[0]:
+                        improves = True       # no patch yet: any valid strip is progress
                 if not improves:
                     break             # candidates are sorted: none after this one is better
                 index = w.add(loop, point)
                 if index is None:
                     continue
                 after = w.assess()
-                if score(after) > current or (colour == "uncovered" and
-                                              after["uncovered"]["area"] >= a["uncovered"]["area"]):
+                worse = score(after) > current and not (colour == "uncovered" and a["crossings"] == 0
+                                                        and score(after)[0] <= current[0])
+                no_gain = colour == "uncovered" and after["uncovered"]["area"] >= a["uncovered"]["area"] \
+                    and after["crossings"] <= a["crossings"]
+                if worse or no_gain:
                     ds.remove_strip(index)   # the re-derived design is worse than predicted: reject
                     continue
                 stalls = stalls + 1 if score(after)[0] >= current[0] and colour == "red" else 0

@@ -14,7 +14,18 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // Lower the distances `d` by shortest paths from `sources` (distance 0) along
 // the edges `allowed` admits. Only improvements propagate, so repeated calls
 // grow a multi-source distance field incrementally (farthest-point sampling).
-void relax_from(const TriangleMesh& mesh, const MeshTopology& topo, const std::vector<Index>& sources,
+// Per vertex its (neighbour, edge) pairs.
+using Adjacency = std::vector<std::vector<std::pair<Index, Index>>>;
+Adjacency adjacency(const TriangleMesh& mesh, const MeshTopology& topo) {
+  Adjacency adj(mesh.num_vertices());
+  for (Index e = 0; e < topo.num_edges(); ++e) {
+    adj[topo.edges[e][0]].push_back({topo.edges[e][1], e});
+    adj[topo.edges[e][1]].push_back({topo.edges[e][0], e});
+  }
+  return adj;
+}
+
+void relax_from(const TriangleMesh& mesh, const Adjacency& adj, const std::vector<Index>& sources,
                 const std::function<bool(Index)>& allowed, std::vector<double>& d) {
   using Item = std::pair<double, Index>;
   std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
@@ -26,14 +37,12 @@ void relax_from(const TriangleMesh& mesh, const MeshTopology& topo, const std::v
     const auto [dv, v] = queue.top();
     queue.pop();
     if (dv > d[v]) continue;
-    // Neighbours through the triangle fan: find the edge to each to ask `allowed`.
-    for (const Index* w = topo.vertex_neighbours.begin(v); w != topo.vertex_neighbours.end(v); ++w) {
-      const Index e = topo.find_edge(v, *w);
-      if (e == kInvalid || !allowed(e)) continue;
-      const double nd = dv + (mesh.positions[v] - mesh.positions[*w]).norm();
-      if (nd < d[*w]) {
-        d[*w] = nd;
-        queue.push({nd, *w});
+    for (const auto& [w, e] : adj[v]) {
+      if (!allowed(e)) continue;
+      const double nd = dv + (mesh.positions[v] - mesh.positions[w]).norm();
+      if (nd < d[w]) {
+        d[w] = nd;
+        queue.push({nd, w});
       }
     }
   }
@@ -49,7 +58,7 @@ Index farthest(const std::vector<Index>& candidates, const std::vector<double>& 
 
 // Farthest-point sampling of `count` vertices of one vertex set, d holding
 // the distance to what is already there (the border; +inf where none).
-std::vector<SeedPoint> sample(const TriangleMesh& mesh, const MeshTopology& topo, std::vector<Index> vertices,
+std::vector<SeedPoint> sample(const TriangleMesh& mesh, const Adjacency& topo, std::vector<Index> vertices,
                               const std::function<bool(Index)>& allowed, std::vector<double>& d, int count) {
   std::vector<SeedPoint> out;
   if (vertices.empty()) return out;
@@ -87,7 +96,8 @@ std::vector<std::vector<SeedPoint>> region_seed_points(const LoopArrangement& A,
   for (Index v = 0; v < nv; ++v)
     if (on_border[v]) border.push_back(v);
   const auto inside = [&A](Index e) { return !A.separates(e); };
-  relax_from(mesh, topo, border, inside, d);
+  const Adjacency adj = adjacency(mesh, topo);
+  relax_from(mesh, adj, border, inside, d);
 
   // Each region's vertices (a border vertex belongs to every region around it).
   std::vector<std::vector<Index>> members(G.regions.size());
@@ -97,7 +107,7 @@ std::vector<std::vector<SeedPoint>> region_seed_points(const LoopArrangement& A,
     for (Index v : mesh.triangles[t]) members[r].push_back(v);
   }
   std::vector<std::vector<SeedPoint>> out(G.regions.size());
-  for (size_t r = 0; r < members.size(); ++r) out[r] = sample(mesh, topo, members[r], inside, d, count);
+  for (size_t r = 0; r < members.size(); ++r) out[r] = sample(mesh, adj, members[r], inside, d, count);
   return out;
 }
 
@@ -155,11 +165,12 @@ UncoveredArea largest_uncovered_area(const Surface& surface,
   for (Index v = 0; v < nv; ++v)
     if (is_source[v]) sources.push_back(v);
   const auto all = [](Index) { return true; };
-  relax_from(mesh, topo, sources, all, d);
+  const Adjacency adj = adjacency(mesh, topo);
+  relax_from(mesh, adj, sources, all, d);
   std::vector<Index> vertices;
   for (Index t : best_members)
     for (Index v : mesh.triangles[t]) vertices.push_back(v);
-  const std::vector<SeedPoint> s = sample(mesh, topo, vertices, all, d, 1);
+  const std::vector<SeedPoint> s = sample(mesh, adj, vertices, all, d, 1);
   if (!s.empty()) out.seed = s.front();
   return out;
 }

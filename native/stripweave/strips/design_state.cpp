@@ -52,6 +52,7 @@ void DesignState::set_strips(const std::vector<StripSpec>& specs) {
   // Keep the unchanged prefix: its loops and masks do not depend on later strips.
   size_t keep = 0;
   while (keep < specs.size() && keep < strips_.size() && specs[keep] == strips_[keep].spec) ++keep;
+  const size_t derived = strips_.size();  // mask_ is the mask of these strips (finish())
   strips_.resize(keep);
   prefix_mask_.resize(keep);
 
@@ -62,7 +63,9 @@ void DesignState::set_strips(const std::vector<StripSpec>& specs) {
     // The mask of strips 0..i-1, each extracted from the design so far.
     std::vector<Index> mask;
     if (i > 0) {
-      mask = mask_of(solve(paths, nullptr).strips);
+      // Appending to the derived design (automatic weaving, a click): its mask is
+      // already that of strips 0..i-1; otherwise solve the prefix.
+      mask = (i == keep && keep == derived) ? mask_ : mask_of(solve(paths, nullptr).strips);
     }
     session_->clear_disabled();
     if (!mask.empty()) session_->set_disabled(mask, true);
