@@ -1,0 +1,199 @@
+"""Automatic weaving and the main job (issue 6): stripweave.weave, the weave CLI, preview.png.
+
+The cube must come out as the three belts of the 6-patch layout (8 triangular regions,
+one corner each), the torus as a valid layout; a user's partial design is kept first and
+completed; the same input gives the same design; report.json agrees with layout.json.
+"""
+import json
+import os
+import struct
+import subprocess
+import zlib
+
+import numpy as np
+import pytest
+
+import stripweave as sw
+from models import box, torus
+from stripweave._native import native
+from stripweave.design import Design
+from stripweave.strips import DesignSession
+from stripweave.weave import WeaveOptions, auto_weave
+
+REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+CLI = os.path.join(os.environ.get("STRIPWEAVE_BUILD", os.path.join(REPO, "build")), "stripweave")
+
+
+def has_layout():
+    try:
+        from stripweave.layout import compute_layout  # noqa: F401
+        return True
+    except ImportError:
+        return False
+
+
+@pytest.fixture(scope="module")
+def cube():
+    return sw.from_shape(box(10), target_triangles=8000)
+
+
+@pytest.fixture(scope="module")
+def woven_cube(cube, tmp_path_factory):
+    out = tmp_path_factory.mktemp("cube")
+    return sw.weave(cube, out=str(out)), out
+
+
+def read_png(path):
+    """(width, height, RGB array) of an 8-bit RGB PNG as preview.py writes it (filter 0 rows)."""
+    data = open(path, "rb").read()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n"
+    pos, idat, header = 8, b"", None
+    while pos < len(data):
+        n, kind = struct.unpack(">I4s", data[pos:pos + 8])
+        body = data[pos + 8:pos + 8 + n]
+        assert zlib.crc32(kind + body) & 0xFFFFFFFF == struct.unpack(">I", data[pos + 8 + n:pos + 12 + n])[0]
+        if kind == b"IHDR":
+            header = struct.unpack(">IIBBBBB", body)
+        elif kind == b"IDAT":
+            idat += body
+        pos += 12 + n
+    w, h, depth, colour = header[:4]
+    assert (depth, colour) == (8, 2)
+    raw = np.frombuffer(zlib.decompress(idat), np.uint8).reshape(h, 1 + 3 * w)
+    assert np.all(raw[:, 0] == 0)
+    return w, h, raw[:, 1:].reshape(h, w, 3)
+
+
+def test_cube_weaves_into_three_belts(woven_cube):
+    report, _ = woven_cube
+    assert report["valid"]
+    assert report["strips"] == 3
+    assert report["regions"] == {"red": 0, "orange": 0, "yellow": 0, "none": 8}
+    if has_layout():
+        assert report["patches"] == 6
+        assert report["irregular_vertices"] == {"3": 8}
+
+
+def test_cube_regions_are_eight_corners(cube):
+    ds = DesignSession(cube)
+    result = auto_weave(ds, WeaveOptions())
+    a = result.assessment
+    assert a["valid"] and a["crossings"] == 6
+    assert len(a["regions"]) == 8
+    assert all(r["valence"] == 3 and r["disc"] and r["singularities"] == 1 for r in a["regions"])
+    # Each added strip says why it was added.
+    assert [e["colour"] for e in result.log][0] == "red"
+    assert all(e["reason"] and len(e["seed"]) == 3 for e in result.log)
+    assert all("added_by" in s.extra for s in ds.design.strips)
+
+
+def test_torus_gives_a_valid_layout():
+    surface = sw.from_shape(torus(10, 3), target_triangles=8000)
+    report = sw.weave(surface)
+    assert report["valid"] and report["regions"]["red"] == 0
+    assert report["strips"] >= 2   # a handle needs a meridian and a longitude
+    if has_layout():
+        assert report["patches"] >= 1
+
+
+def test_partial_design_is_kept_and_completed(cube):
+    user = Design()
+    user.add_strip([(5, 5, 10, 1, 0, 0)])   # one belt around the cube, by hand
+    before = user.to_dict()["strips"][0]["anchors"]
+    report = sw.weave(cube, design=user)
+    design = report["design"]
+    assert design.to_dict()["strips"][0]["anchors"] == before
+    assert "added_by" not in design.strips[0].extra
+    assert report["valid"] and report["strips"] == 3
+    assert report["regions"]["none"] == 8
+    assert user.to_dict()["strips"][0]["anchors"] == before and len(user.strips) == 1  # the input is untouched
+
+
+def test_weaving_is_deterministic(cube):
+    a = sw.weave(cube)["design"].to_dict()["strips"]
+    b = sw.weave(cube)["design"].to_dict()["strips"]
+    assert a == b
+
+
+def test_max_strips_is_respected(cube):
+    report = sw.weave(cube, max_strips=1)
+    assert report["strips"] == 1 and report["stopped"] == "max strips"
+
+
+def test_report_agrees_with_layout(woven_cube):
+    report, out = woven_cube
+    on_disk = json.load(open(out / "report.json"))
+    layout = json.load(open(out / "layout.json"))
+    assert set(on_disk) == {"valid", "strips", "patches", "regions", "irregular_vertices", "corner_deviation_deg",
+                            "bbox_diagonal", "timings_ms"}
+    assert on_disk["valid"] == layout["valid"]
+    assert on_disk["patches"] == len(layout["patches"])
+    colours = {c: sum(1 for r in layout["regions"] if r["colour"] == c) for c in ("red", "orange", "yellow", "none")}
+    assert on_disk["regions"] == colours
+    assert on_disk["bbox_diagonal"] == pytest.approx(10 * np.sqrt(3), rel=1e-6)
+    assert on_disk["strips"] == len(Design.load(out / "design.json").strips)
+    if has_layout():
+        valence = {}
+        for v in layout["vertices"]:
+            if v["valence"] != 4 and not v["boundary"]:
+                valence[str(v["valence"])] = valence.get(str(v["valence"]), 0) + 1
+        assert on_disk["irregular_vertices"] == valence
+
+
+def test_design_file_reloads_to_the_same_layout(woven_cube, cube):
+    _, out = woven_cube
+    again = sw.weave(cube, design=str(out / "design.json"), auto=False)
+    assert again["valid"] and again["strips"] == 3 and again["regions"]["none"] == 8
+
+
+def test_step_export_says_when_it_is_missing(cube, tmp_path):
+    if hasattr(native, "refit"):
+        pytest.skip("this build has the surfacing stage")
+    with pytest.raises(native.InputError, match="STEP export not available in this build"):
+        sw.weave(cube, out=str(tmp_path), step=True, max_strips=1)
+
+
+def test_cli_writes_every_file(tmp_path):
+    model = tmp_path / "cube.brep"
+    box(10).exportBrep(str(model))
+    out = tmp_path / "out"
+    run = subprocess.run([CLI, "weave", str(model), "--auto", "--out", str(out), "--target-triangles", "8000",
+                          "--json"], capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
+    report = json.loads(run.stdout)
+    assert report["valid"] and report["strips"] == 3
+    for name in ("design.json", "layout.json", "report.json", "preview.png"):
+        assert (out / name).is_file()
+    assert "strip 1" in run.stderr   # progress
+    w, h, rgb = read_png(out / "preview.png")
+    assert (w, h) == (1024, 768)
+    background = np.all(rgb == 255, axis=2)
+    assert 0.1 < 1 - background.mean() < 0.9   # the part fills a good share of the picture
+    assert len(np.unique(rgb.reshape(-1, 3), axis=0)) > 50   # shaded, striped, not flat
+
+
+def test_cli_text_says_where_outputs_are(tmp_path):
+    model = tmp_path / "cube.brep"
+    box(10).exportBrep(str(model))
+    out = tmp_path / "out"
+    run = subprocess.run([CLI, "weave", str(model), "--auto", "--out", str(out), "--target-triangles", "8000",
+                          "--max-strips", "3"], capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
+    assert f"wrote {out / 'preview.png'}" in run.stdout
+
+
+def test_cli_bad_input(tmp_path):
+    run = subprocess.run([CLI, "weave", str(tmp_path / "missing.step"), "--auto", "--out", str(tmp_path / "o")],
+                         capture_output=True, text=True, timeout=60)
+    assert run.returncode == 1
+    assert "missing.step" in run.stderr and "Traceback" not in run.stderr
+    run = subprocess.run([CLI, "weave", str(tmp_path / "missing.step"), "--out", str(tmp_path / "o")],
+                         capture_output=True, text=True, timeout=60)
+    assert run.returncode == 1 and "--design" in run.stderr
+
+
+def test_bad_options_are_named(cube):
+    with pytest.raises(native.InputError, match="max strips"):
+        sw.weave(cube, max_strips=-1)
+    with pytest.raises(native.InputError, match="boundary"):
+        sw.weave(cube, boundary="sideways")
