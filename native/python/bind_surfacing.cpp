@@ -16,7 +16,7 @@
 //   Returns (lengths in model units):
 //     max_deviation, rms_deviation, per_patch [{max_deviation,
 //     rms_deviation, nu, nv, samples}], max_edge_deviation, tolerance,
-//     tolerance_met, rounds, max_seam_gap, max_seam_angle_deg (smooth seams,
+//     tolerance_met, rounds, uncoupled_patches, max_seam_gap, max_seam_angle_deg (smooth seams,
 //     middle of each seam), max_seam_angle_deg_full (whole seam),
 //     max_sharp_angle_deg, smooth_seams, sharp_seams, boundary_edges, faces,
 //     shells, free_edges, valid_shell, closed, volume (None unless closed),
@@ -172,6 +172,7 @@ void bind_surfacing(py::module_& m) {
         d["tolerance"] = r.tolerance;
         d["tolerance_met"] = r.tolerance_met;
         d["rounds"] = r.rounds;
+        d["uncoupled_patches"] = r.uncoupled_patches;
         d["max_seam_gap"] = r.max_seam_gap;
         d["max_seam_angle_deg"] = r.max_seam_angle_deg;
         d["max_seam_angle_deg_full"] = r.max_seam_angle_deg_full;

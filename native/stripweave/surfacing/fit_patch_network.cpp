@@ -296,10 +296,20 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
     if (seams.empty() || options.seam_weight <= 0) break;
     // 4. One coupled fit for tangent continuity across smooth seams.
     for (Seam& s : seams) s.alpha = seam_speed_ratio(result.surfaces, s);
+    const std::vector<BSplinePatch> uncoupled = result.surfaces;
+    const std::vector<PatchFitFigures> uncoupled_fig = report.per_patch;
     fit_patch_interiors(result.surfaces, samples, {}, seams, options.smoothing, options.seam_weight);
     for (Index p = 0; p < nP; ++p) measure(result.surfaces[p], samples[p], report.per_patch[p]);
     // If the coupling pushed a patch over tolerance, refine and go again.
-    if (report.rounds >= kMaxRounds || !refine()) break;
+    if (report.rounds < kMaxRounds && outer < 2 && refine()) continue;
+    // Refinement is exhausted: tolerance before tangent continuity.
+    for (Index p = 0; p < nP; ++p)
+      if (report.per_patch[p].max_deviation > tol && uncoupled_fig[p].max_deviation < report.per_patch[p].max_deviation) {
+        result.surfaces[p] = uncoupled[p];
+        report.per_patch[p] = uncoupled_fig[p];
+        ++report.uncoupled_patches;
+      }
+    break;
   }
   watch.lap("fit");
 

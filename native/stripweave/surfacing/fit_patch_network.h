@@ -54,7 +54,7 @@ struct FitOptions {
   double relative_tolerance = 1e-3;
   int initial_spans = 1;
   int max_spans = 24;
-  double smoothing = 1e-6;           // thin-plate weight (against the mean squared data term)
+  double smoothing = 1e-9;           // thin-plate weight (against the mean squared data term)
   double seam_weight = 100;          // C1 penalty across smooth seams (0: no coupling)
   int edge_density = 4;              // edge polyline segments are split in this many samples
   double edge_snap = 5e-3;           // sharp-edge snap distance, relative to the bbox diagonal
@@ -75,6 +75,7 @@ struct FitReport {
   std::vector<PatchFitFigures> per_patch;
   bool tolerance_met = false;
   int rounds = 0;                     // refinement rounds
+  Index uncoupled_patches = 0;        // patches left without the seam coupling (tolerance first)
   double max_seam_gap = 0;            // between neighbouring patches' shared sides
   double max_seam_angle_deg = 0;      // smooth seams, over [seam_from, seam_to]
   double max_seam_angle_deg_full = 0; // smooth seams, whole seam
