@@ -18,6 +18,7 @@
 //     rms_deviation, nu, nv, samples}], max_edge_deviation, tolerance,
 //     tolerance_met, rounds, uncoupled_patches, max_seam_gap, max_seam_angle_deg (smooth seams,
 //     middle of each seam), max_seam_angle_deg_full (whole seam),
+//     max_seam_angle_deg_regular (whole seams between valence-4 vertices),
 //     max_sharp_angle_deg, smooth_seams, sharp_seams, boundary_edges, faces,
 //     shells, free_edges, valid_shell, closed, volume (None unless closed),
 //     shell_tolerance, step_faces_read_back (None without step_path),
@@ -176,6 +177,7 @@ void bind_surfacing(py::module_& m) {
         d["max_seam_gap"] = r.max_seam_gap;
         d["max_seam_angle_deg"] = r.max_seam_angle_deg;
         d["max_seam_angle_deg_full"] = r.max_seam_angle_deg_full;
+        d["max_seam_angle_deg_regular"] = r.max_seam_angle_deg_regular;
         d["max_sharp_angle_deg"] = r.max_sharp_angle_deg;
         d["smooth_seams"] = r.smooth_seams;
         d["sharp_seams"] = r.sharp_seams;

@@ -325,6 +325,14 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
   for (double d : edge_dev) report.max_edge_deviation = std::max(report.max_edge_deviation, d);
   report.tolerance_met = report.max_deviation <= tol && report.max_edge_deviation <= tol;
 
+  // Regular vertices: exactly 4 smooth seams meet there.
+  std::vector<Index> valence(nV, 0);
+  std::vector<bool> regular(nV, true);
+  for (Index e = 0; e < nE; ++e)
+    for (Index v : {network.edges[e].v0, network.edges[e].v1}) {
+      ++valence[v];
+      if (network.edges[e].sharp || network.edges[e].boundary || uses[e].size() != 2) regular[v] = false;
+    }
   constexpr int kSeamSamples = 41;
   for (Index e = 0; e < nE; ++e) {
     if (uses[e].size() != 2) continue;
@@ -345,6 +353,9 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
       report.max_seam_angle_deg_full = std::max(report.max_seam_angle_deg_full, angle);
       if (t >= options.seam_from - 1e-12 && t <= options.seam_to + 1e-12)
         report.max_seam_angle_deg = std::max(report.max_seam_angle_deg, angle);
+      const NetworkEdge& E = network.edges[e];
+      if (regular[E.v0] && valence[E.v0] == 4 && regular[E.v1] && valence[E.v1] == 4)
+        report.max_seam_angle_deg_regular = std::max(report.max_seam_angle_deg_regular, angle);
     }
   }
   watch.lap("measure");

@@ -79,6 +79,7 @@ struct FitReport {
   double max_seam_gap = 0;            // between neighbouring patches' shared sides
   double max_seam_angle_deg = 0;      // smooth seams, over [seam_from, seam_to]
   double max_seam_angle_deg_full = 0; // smooth seams, whole seam
+  double max_seam_angle_deg_regular = 0;  // smooth seams between two regular (valence-4) vertices, whole seam
   double max_sharp_angle_deg = 0;     // largest normal jump over sharp seams (for reference)
   Index smooth_seams = 0, sharp_seams = 0, boundary_edges = 0;
   // The shell (patch_shell.h), when built.
