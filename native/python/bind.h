@@ -17,5 +17,6 @@ void bind_field(pybind11::module_& m);   // cross field (paper §6.1)
 void bind_param(pybind11::module_& m);   // global parameterization (§6.1)
 void bind_design(pybind11::module_& m);  // designs, strips, compatibility (§4.1, §6)
 void bind_regions(pybind11::module_& m);  // loop arrangement, regions, assessment (§4.2)
+void bind_surfacing(pybind11::module_& m);  // patch network -> B-spline patches, shell, STEP
 void bind_weave(pybind11::module_& m);    // automatic weaving: assessment and seed points (issue 6)
 }

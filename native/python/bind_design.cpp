@@ -2,7 +2,7 @@
 //
 // Anchors, points, widths and strip coordinates cross in MODEL units.
 // Recomputing a design releases the GIL.
-#include "bind.h"
+#include "bind_regions.h"
 
 #include "stripweave/core/error.h"
 #include "stripweave/strips/design_state.h"
@@ -42,7 +42,8 @@ py::dict strip_dict(const Surface& s, const DesignStrip& d) {
   // transitions (a check of exact alignment, model units).
   double across = 0;
   for (const PathSegment& seg : d.path.segments) {
-    if (!d.strip.covered[seg.triangle]) continue;
+    // A strip whose extraction found nothing has no per-triangle data at all.
+    if (static_cast<size_t>(seg.triangle) >= d.strip.covered.size() || !d.strip.covered[seg.triangle]) continue;
     for (Index point : {seg.from, seg.to}) {
       const Vec3 b = barycentric_in(s, d.path.path, point, seg.triangle);
       const auto& c = d.strip.coords[seg.triangle];
@@ -57,7 +58,7 @@ py::dict strip_dict(const Surface& s, const DesignStrip& d) {
 }  // namespace
 
 void bind_design(py::module_& m) {
-  py::class_<DesignState, std::shared_ptr<DesignState>>(
+  auto state = py::class_<DesignState, std::shared_ptr<DesignState>>(
       m, "DesignState", "All derived state of a design: loops, cross field, parameterization, strips, mask")
       .def(py::init([](std::shared_ptr<LoopSession> session, bool features, bool boundary) {
              FieldOptions options;
@@ -119,6 +120,7 @@ void bind_design(py::module_& m) {
       .def("disabled_nodes", &DesignState::disabled_nodes)
       .def("apply_mask", &DesignState::apply_mask,
            "Give the session the compatibility mask of every strip, for the next loop");
+  bind_layout(m, state);
 }
 
 }  // namespace stripweave_python

@@ -32,7 +32,7 @@
 //   triangle_region, edges (E,2), edge_loop (E,) (a loop on the edge, or -1),
 //   crossing_vertices, arc_list [{"loop", "vertices", "closed", "left",
 //   "right"}].
-#include "bind.h"
+#include "bind_regions.h"
 
 #include "stripweave/core/error.h"
 #include "stripweave/layout/regions.h"
@@ -50,17 +50,6 @@ namespace stripweave_python {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double millis(Clock::time_point a, Clock::time_point b) {
-  return std::chrono::duration<double, std::milli>(b - a).count();
-}
-
-struct Computed {
-  LoopArrangement arrangement;
-  Regions regions;
-  double embed_ms = 0, arrangement_ms = 0, regions_ms = 0;
-};
-
 py::list position(const Surface& s, const Vec3& p) {
   const Vec3 q = s.similarity.to_model(p);
   py::list out;
@@ -68,7 +57,9 @@ py::list position(const Surface& s, const Vec3& p) {
   return out;
 }
 
-py::dict to_dict(const Surface& s, const std::vector<Singularity>& singular, const Computed& c, bool details) {
+}  // namespace
+
+py::dict regions_dict(const Surface& s, const std::vector<Singularity>& singular, const Computed& c, bool details) {
   const LoopArrangement& A = c.arrangement;
   const Regions& G = c.regions;
   const double scale2 = s.similarity.scale * s.similarity.scale;
@@ -185,7 +176,6 @@ std::vector<Singularity> singularities_from(const Surface& s, const std::vector<
   return out;
 }
 
-// Segments, arrangement and regions of embedded loops (without the GIL).
 Computed compute(const Surface& s, std::vector<LoopPath>& paths, const std::vector<Singularity>& singular) {
   Computed c;
   const auto t0 = Clock::now();
@@ -200,8 +190,6 @@ Computed compute(const Surface& s, std::vector<LoopPath>& paths, const std::vect
   c.regions_ms = millis(t2, t3);
   return c;
 }
-
-}  // namespace
 
 void bind_regions(py::module_& m) {
   m.def("regions", [](const LoopSession& session, const std::vector<Loop>& loops,
@@ -224,7 +212,7 @@ void bind_regions(py::module_& m) {
           c = compute(s, paths, singular);
           c.embed_ms += embed_ms;
         }
-        return to_dict(s, singular, c, details);
+        return regions_dict(s, singular, c, details);
       },
       py::arg("session"), py::arg("loops"), py::arg("singular_vertices") = std::vector<Index>(),
       py::arg("quarter_indices") = std::vector<int>(), py::arg("details") = false,
@@ -263,7 +251,7 @@ void bind_regions(py::module_& m) {
           py::gil_scoped_release release;
           c = compute(s, loops, singular);
         }
-        return to_dict(s, singular, c, details);
+        return regions_dict(s, singular, c, details);
       },
       py::arg("surface"), py::arg("paths"), py::arg("singular_vertices") = std::vector<Index>(),
       py::arg("quarter_indices") = std::vector<int>(), py::arg("details") = false,

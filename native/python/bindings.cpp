@@ -233,5 +233,6 @@ PYBIND11_MODULE(_stripweave, m) {
   stripweave_python::bind_param(m);
   stripweave_python::bind_design(m);
   stripweave_python::bind_regions(m);
+  stripweave_python::bind_surfacing(m);
   stripweave_python::bind_weave(m);
 }

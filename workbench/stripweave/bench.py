@@ -112,13 +112,16 @@ def bench_strips(surface, loop_session=None, strips=6, repeat=3, seed=3):
             session.add_strip([tuple(p)])
         except native.InputError:
             pass
-    field, param, extraction = [], [], []
+    field, param, extraction, regions, layout = [], [], [], [], []
     for _ in range(max(1, repeat)):
         session.native.set_strips(session.design.anchor_lists())
         t = session.timings_ms()
         field.append(t["field"])
         param.append(t["parameterization"] + t["extraction"])
         extraction.append(t["extraction"])
+        raw = session.native.layout()
+        regions.append(raw["time_ms"])
+        layout.append(raw["layout_ms"])
     result = session.strips_json()
     return {
         "design_strips": len(session.design.strips),
@@ -131,6 +134,12 @@ def bench_strips(surface, loop_session=None, strips=6, repeat=3, seed=3):
         "field_ms": summary(field),
         "param_ms": summary(param),
         "extraction_ms": summary(extraction),
+        # The arrangement and regions of the design's loops, and primalization (only for a
+        # valid design: otherwise layout_ms times the check alone).
+        "design_valid": bool(raw["valid"]),
+        "patches": raw["summary"]["patches"],
+        "regions_ms": summary(regions),
+        "layout_ms": summary(layout),
     }
 
 

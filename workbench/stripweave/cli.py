@@ -6,6 +6,8 @@
                     [--design D.json]   ... compatible with the design's strips (§6.2)
     stripweave strips MODEL --design D.json --out DIR [--json]
                                          cross field, parameterization and strips -> DIR/strips.json
+    stripweave layout MODEL --design D.json --out DIR [--json]
+                                         regions, assessment and primal quad layout -> DIR/layout.json
     stripweave weave MODEL [--design D.json] [--auto] --out DIR [--step] [--json]
                     [--max-strips N] [--patches N] [--no-features] [--boundary aligned|trimmed] [--seed S]
                                          the main job: (automatic) design, layout, report, preview.png
@@ -129,6 +131,29 @@ def cmd_strips(args):
     return 0
 
 
+def cmd_layout(args):
+    import os
+    from .design import Design
+    from .layout import compute_layout, format_summary, write_layout
+    from .surface import load
+    design = Design.load(args.design)
+    surface = load(args.model, **_surface_options_for(args, design))
+    session = _design_session(args, surface, design)
+    result = compute_layout(session)
+    os.makedirs(args.out, exist_ok=True)
+    path = write_layout(result, os.path.join(args.out, "layout.json"))
+    if args.json:
+        colours = {}
+        for r in result["regions"]:
+            colours[r["colour"]] = colours.get(r["colour"], 0) + 1
+        print(json.dumps({"valid": result["valid"], "regions": colours, "summary": result["summary"],
+                          "problems": result["problems"], "timings_ms": result["timings_ms"], "path": path}))
+    else:
+        print(format_summary(result))
+        print(f"wrote {path}")
+    return 0
+
+
 def cmd_bench(args):
     from .bench import run_bench
     print(json.dumps(run_bench(args.model, repeat=args.repeat, loops=not args.surface_only,
@@ -202,6 +227,16 @@ def build_parser():
     p.add_argument("--json", action="store_true", help="machine-readable summary")
     _add_surface_options(p)
     p.set_defaults(run=cmd_strips)
+
+    p = sub.add_parser("layout", help="regions, assessment and primal quad layout of a design (paper §4.2, §7)")
+    p.add_argument("model")
+    p.add_argument("--design", metavar="D.json", required=True, help="the design file")
+    p.add_argument("--out", metavar="DIR", required=True, help="folder for layout.json")
+    p.add_argument("--boundary", choices=("aligned", "trimmed"), default=None,
+                   help="override the design's boundary mode")
+    p.add_argument("--json", action="store_true", help="machine-readable summary")
+    _add_surface_options(p)
+    p.set_defaults(run=cmd_layout)
 
     p = sub.add_parser("weave", help="the main job: weave a quad layout (automatically) and write "
                                      "design.json, layout.json, report.json, preview.png")

@@ -81,12 +81,16 @@ def make_report(ds, layout, timings_ms):
             "timings_ms": {k: round(float(v), 1) for k, v in timings_ms.items()}}
 
 
-def _export_step(surface, layout, tolerance, path):
-    """Fit NURBS patches to the layout and write them as STEP (the surfacing stage, built
-    separately). Returns the fit figures of report.json."""
-    if not hasattr(native, "refit"):
+FIT_KEYS = ("max_deviation", "rms_deviation", "max_seam_gap", "max_seam_angle_deg")
+
+
+def _export_step(ds, tolerance, path):
+    """Fit NURBS patches to the design's primal layout and write them as STEP (the surfacing
+    stage, native.refit). Returns the "fit" figures of report.json (model units)."""
+    if not hasattr(native, "refit") or not hasattr(ds.native, "patch_network"):
         raise native.InputError("STEP export not available in this build")
-    return dict(native.refit(surface, layout, tolerance, path))
+    fit = native.refit(ds.surface, ds.native.patch_network(), tolerance, path)
+    return {k: float(fit[k]) for k in FIT_KEYS}
 
 
 def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, features=True, boundary=None,
@@ -167,8 +171,10 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
         if step:
             say("fitting patches (STEP)")
             paths["step"] = os.path.join(out, "patches.step")
+            if not layout["valid"]:
+                raise native.InputError("cannot fit patches: the layout is not valid (red regions remain)")
             tol = tolerance if tolerance is not None else 1e-3 * report["bbox_diagonal"]
-            report["fit"] = _export_step(surface, layout, tol, paths["step"])
+            report["fit"] = _export_step(ds, tol, paths["step"])
             lap("step")
     timings.update({f"strips_{k}": v for k, v in ds.timings_ms().items()})
     timings.update({f"layout_{k}": v for k, v in layout.get("timings_ms", {}).items()})

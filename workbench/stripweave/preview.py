@@ -14,8 +14,8 @@ bounding-box size and testing every pixel of each bin's box at once (numpy), a z
 keeps the nearest sample, and pixels are shaded from their triangle and barycentrics. Lines
 are sampled at half-pixel steps and kept where they are not behind the surface (with a small
 depth offset so lines on the surface win). It is the display of data the native side has
-computed, not geometry of its own: the view is chosen among the eight isometric directions as
-the one that sees the most surface area.
+computed, not geometry of its own: the view is chosen among the eight isometric directions (and the
+six axis directions, when they see clearly more) as the one that sees the most surface area.
 """
 import struct
 import zlib
@@ -38,14 +38,18 @@ def best_view(vertices, triangles):
     v = np.asarray(vertices, float)
     t = np.asarray(triangles)
     n = np.cross(v[t[:, 1]] - v[t[:, 0]], v[t[:, 2]] - v[t[:, 0]])  # 2 x area, outward
+    # Isometric views read best as 3D; an axis view wins only when it sees clearly more
+    # (the flat face of a plate-like part).
+    views = [(np.array([sx, sy, sz], float) / np.sqrt(3), 1.0) for sz in (1, -1) for sx in (1, -1) for sy in (-1, 1)]
+    views += [(np.array(a, float), 0.8) for a in ((0, 0, 1), (1, 0, 0), (0, -1, 0), (0, 0, -1), (-1, 0, 0), (0, 1, 0))]
     best, best_seen = None, -1.0
-    for sz in (1, -1):
-        for sx in (1, -1):
-            for sy in (-1, 1):
-                d = np.array([sx, sy, sz], float) / np.sqrt(3)
-                seen = np.clip(n @ d, 0, None).sum()
-                if seen > best_seen * (1 + 1e-3):
-                    best, best_seen = d, seen
+    for d, weight in views:
+        if abs(d[2]) > 0.99:   # straight down: tilt a little so the camera has an up direction
+            d = d + np.array([0.0, -0.35, 0.0])
+            d /= np.linalg.norm(d)
+        seen = weight * np.clip(n @ d, 0, None).sum()
+        if seen > best_seen * (1 + 1e-3):
+            best, best_seen = d, seen
     return best
 
 
@@ -251,6 +255,8 @@ def render_design(path, ds, layout=None, regions=None, **kw):
             hit = np.array([c == name for c in colour] + [False])[np.where(reg < 0, len(colour), reg)]
             tints[parent[hit]] = rgb
     stripes = [ds.native.strip_coordinates(i) for i in range(ds.native.strip_count)]
+    # A strip the extraction found empty has no coordinates: it shows as its loop only.
+    stripes = [c if len(c) == len(s.triangles) else np.full((len(s.triangles), 3, 2), np.nan) for c in stripes]
     loops = [st["points"] for st in ds.strips()]
     edges = [e["points"] for e in (layout or {}).get("edges", [])]
     if edges:

@@ -45,7 +45,10 @@ class WeaveOptions:
     seeds_per_region: int = 3       # seed points tried per region (centre first)
     alternatives: int = 3           # ranked alternatives tried when no seed point helps
     seed: int = 0                   # which seed point to try first (varies the result, deterministically)
-    time_limit_s: float = 22.0      # after this, only red regions are still worked on
+    time_limit_s: float = 16.0      # after this, only red regions are still worked on
+    refine: bool = True             # then split the patches with the worst corners (needs the layout)
+    refine_deviation_deg: float = 12.0   # ... while the mean corner deviation is above this
+    refine_patches: int = 160       # ... and the layout has fewer patches than this (0: no limit)
     query_timeout_s: float = 6.0    # a loop query running longer is cancelled (no proposal there)
     verbose: bool = False           # progress on stderr
 
@@ -132,13 +135,18 @@ class _Weaver:
             watchdog.cancel()
             self.session.clear_disabled()
 
-    def candidates(self, points, alternatives):
-        """(score, cost, loop, point) of each proposal at each point, best first."""
+    def candidates(self, points, alternatives, current):
+        """(score, cost, loop, point) of proposals at the points, best first. Points are tried
+        in order and the search stops at the first point whose proposals improve on
+        `current`: the region's centre usually does, and each further point costs a loop
+        search and an arrangement."""
         out = []
         for point in points:
             for loop in self.proposals(point, alternatives):
                 a = self.assess([loop], seeds=False)
                 out.append((score(a), loop.cost, loop, point, a))
+            if out and min(c[0] for c in out) < current:
+                break
         out.sort(key=lambda c: (c[0], c[1]))
         return out
 
@@ -154,6 +162,75 @@ class _Weaver:
         except native.InputError:
             return None
         return index
+
+
+def _layout(ds):
+    from .layout import compute_layout
+    return compute_layout(ds)
+
+
+def _deviation(layout):
+    return layout["summary"]["corner_deviation_deg"]["mean"] if layout["valid"] and layout["patches"] else 180.0
+
+
+def _refine(w, ds, options, a, result, elapsed):
+    """Past the paper's colours: a region can be fine by §4.2 and still give patches with
+    corners far from 90 degrees (a cube-like layout wrapped on a cylinder). Split the worst
+    patch by the best strip across its longest side (seeded at that side's middle), keep it
+    if the mean corner deviation of the real layout drops, until the deviation or the patch
+    count is reached or time runs out."""
+    try:
+        layout = _layout(ds)
+    except ImportError:
+        return a
+    tried = set()
+    while len(ds.design.strips) < options.max_strips and elapsed() < options.time_limit_s:
+        deviation = _deviation(layout)
+        patches = len(layout["patches"])
+        if deviation <= options.refine_deviation_deg:
+            result.stopped = "done"
+            break
+        limit = options.patches or options.refine_patches
+        if limit and patches >= limit:
+            result.stopped = "patch target"
+            break
+        # Patches by their worst corner, then the middle of each one's longest side.
+        order = sorted(range(patches), key=lambda i: -max(abs(x - 90) for x in layout["patches"][i]["corner_angles_deg"]))
+        seed = None
+        for i in order:
+            sides = sorted(layout["patches"][i]["edges"], key=lambda e: (-layout["edges"][e]["length"], e))
+            points = layout["edges"][sides[0]]["points"]
+            p = points[len(points) // 2]
+            if _key(p) not in tried:
+                seed, worst = p, i
+                break
+        if seed is None:
+            result.stopped = "no seed helps"
+            break
+        tried.add(_key(seed))
+        _say(options, f"strip {len(ds.design.strips) + 1}: refine patch {worst} (corner deviation "
+                      f"{deviation:.1f} deg, {patches} patches, {elapsed():.1f} s)")
+        proposals = w.proposals(seed, 1)
+        if not proposals:
+            continue
+        index = w.add(proposals[0], seed)
+        if index is None:
+            continue
+        after_layout = _layout(ds)
+        after = w.assess()
+        if after["colours"]["red"] or score(after)[0] > score(a)[0] or _deviation(after_layout) >= deviation:
+            ds.remove_strip(index)
+            continue
+        ds.design.strips[index].extra["added_by"] = {"reason": "corner deviation", "region": -1,
+                                                     "colour": "none", "seed": [float(x) for x in seed]}
+        result.log.append({"strip": index, "reason": "corner deviation", "region": -1, "colour": "none",
+                           "seed": [float(x) for x in seed], "anchor": ds.design.strips[index].anchors[0].to_list(),
+                           "cost": proposals[0].cost, "deviation_before": deviation,
+                           "deviation_after": _deviation(after_layout), "time_s": round(elapsed(), 3)})
+        a, layout = after, after_layout
+    else:
+        result.stopped = "max strips" if len(ds.design.strips) >= options.max_strips else "time limit"
+    return a
 
 
 def auto_weave(ds, options=None):
@@ -178,7 +255,8 @@ def auto_weave(ds, options=None):
             break
         current = score(a)
         valid = a["colours"]["red"] == 0
-        if valid and options.patches and a["crossings"] >= options.patches:
+        if valid and (options.patches or options.refine_patches) and \
+                a["crossings"] >= (options.patches or options.refine_patches):
             result.stopped = "patch target"
             break
         seeds = seeds_in_order(a, options, skip)
@@ -193,9 +271,10 @@ def auto_weave(ds, options=None):
                       f"(red {a['colours']['red']}, orange {a['colours']['orange']}, "
                       f"yellow {a['colours']['yellow']}, {elapsed():.1f} s)")
         added = None
-        for alternatives in (1, options.alternatives):
+        # Ranked alternatives (slow: a second search per rank) only where validity is at stake.
+        for alternatives in ((1, options.alternatives) if colour == "red" else (1,)):
             tried = points if alternatives == 1 else points[:1]
-            for s, cost, loop, point, predicted in w.candidates(tried, alternatives):
+            for s, cost, loop, point, predicted in w.candidates(tried, alternatives, current):
                 improves = s < current
                 if colour == "red" and not improves and s[0] <= current[0] and stalls < 2:
                     improves = True   # a handle can take two loops to cut (a torus: meridian, then equator)
@@ -233,6 +312,8 @@ def auto_weave(ds, options=None):
         for p in points:      # nothing helped from this region's seeds: do not ask again
             skip.add(_key(p))
 
+    if result.stopped == "done" and options.refine:
+        a = _refine(w, ds, options, a, result, elapsed)
     result.assessment = a
     result.time_ms = elapsed() * 1000.0
     _say(options, f"{result.stopped}: {len(ds.design.strips)} strips ({user_strips} given, "

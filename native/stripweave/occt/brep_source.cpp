@@ -425,6 +425,20 @@ Vec3 BrepSource::project_to_edge(Index e, const Vec3& p, double* distance) const
   return best;
 }
 
+Vec3 BrepSource::project_to_face(Index face, const Vec3& p, double* distance) const {
+  const Impl& s = *impl_;
+  auto& analyser = s.analysers[face];
+  if (!analyser) analyser = std::make_unique<ShapeAnalysis_Surface>(BRep_Tool::Surface(s.face(face)));
+  Vec3 q = p;
+  try {
+    const gp_Pnt2d uv = analyser->ValueOfUV(to_pnt(p), 1e-9);
+    q = to_vec(analyser->Value(uv));
+  } catch (const Standard_Failure&) {
+  }
+  if (distance) *distance = (q - p).norm();
+  return q;
+}
+
 std::string BrepSource::to_brep_string() const {
   std::ostringstream out;
   BRepTools::Write(impl_->shape, out);

@@ -23,6 +23,9 @@
 //       its outward normal, principal curvatures (positive where convex) and
 //       directions, accounting for reversed faces
 //   project_to_edge(e, p)  the point of edge e's curve nearest to p
+//   project_to_face(f, p)  the point of the face's (untrimmed) surface
+//       nearest to p, position only: evaluate() without the normal and
+//       curvature, for bulk sampling (the surfacing stage's refit)
 #pragma once
 
 #include "stripweave/surface/triangle_mesh.h"
@@ -70,6 +73,7 @@ class BrepSource {
 
   SurfacePoint evaluate(Index face, const Vec3& p) const;
   Vec3 project_to_edge(Index edge, const Vec3& p, double* distance = nullptr) const;
+  Vec3 project_to_face(Index face, const Vec3& p, double* distance = nullptr) const;
 
   // The shape as a BREP string (for the refit stage and for FreeCAD).
   std::string to_brep_string() const;

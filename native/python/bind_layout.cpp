@@ -1,0 +1,272 @@
+// Bindings of primalization (paper §7): a design's quad layout.
+//
+// DesignState.regions(details=False) -> dict
+//   The arrangement of the design's loops and its regions, with the design's
+//   cross-field singularities (keys: bind_regions.cpp).
+// DesignState.layout(details=False) -> dict
+//   Everything regions() gives, and the primal quad layout
+//   (layout/quad_layout.h) in model units:
+//     vertices   [{"position", "valence", "boundary", "region",
+//                  "placement" (corner|boundary|singularity|centre)}]
+//     edges      [{"points" (n,3), "vertices": [i, j], "arc", "loop",
+//                  "sharp", "boundary", "length"}]
+//     patches    [{"edges": [4], "reversed": [4], "corners": [4 vertices],
+//                  "corner_angles_deg": [4], "area", "quad"}]; the sides
+//                  counter-clockwise seen from outside, side k running from
+//                  corner k to corner k + 1
+//     summary    {"patches", "irregular_vertices": {valence: n} (inner
+//                  vertices of valence != 4), "boundary_vertices": {valence:
+//                  n}, "corner_deviation_deg": {"mean", "max"} (|angle - 90|
+//                  over the patch corners), "euler": {"V", "E", "F", "chi"}}
+//     problems   what keeps the embedding from a clean quad layout
+//     layout_ms  primalization alone
+//   For an invalid design (a red region) vertices, edges and patches are
+//   empty. With details=True also patch_of_triangle (per refined triangle,
+//   -1 outside every patch) besides the regions' details.
+// layout(session, loops, singular_vertices=[], quarter_indices=[], details=False) -> dict
+//   The same for loops of a LoopSession with given singularities (as
+//   regions() takes them): a layout of loops that no design's compatibility
+//   constrained, e.g. parallel loops of a denser layout.
+// DesignState.patch_network() -> the layout as surfacing takes it
+//   (surfacing/patch_network.h): {"vertices", "edges": [{"points",
+//   "vertices", "sharp", "boundary"}], "patches": [{"edges", "reversed",
+//   "vertices", "triangles", "corners", "source_face"}], "bbox_diagonal"}.
+#include "bind_regions.h"
+
+#include "stripweave/layout/patch_network_of.h"
+#include "stripweave/strips/design_state.h"
+
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <map>
+
+namespace py = pybind11;
+using namespace stripweave;
+
+namespace stripweave_python {
+
+namespace {
+
+const char* placement_name(VertexPlacement p) {
+  switch (p) {
+    case VertexPlacement::Corner: return "corner";
+    case VertexPlacement::Boundary: return "boundary";
+    case VertexPlacement::Singularity: return "singularity";
+    case VertexPlacement::Centre: return "centre";
+  }
+  return "centre";
+}
+
+py::array_t<double> points_array(const std::vector<Vec3>& points) {
+  py::array_t<double> a({static_cast<py::ssize_t>(points.size()), py::ssize_t(3)});
+  auto o = a.mutable_unchecked<2>();
+  for (size_t i = 0; i < points.size(); ++i)
+    for (int j = 0; j < 3; ++j) o(i, j) = points[i][j];
+  return a;
+}
+
+struct DesignLayout {
+  Computed computed;
+  QuadLayout layout;
+  double layout_ms = 0;
+};
+
+DesignLayout design_layout(const DesignState& d, bool primal) {
+  const Surface& s = d.surface();
+  DesignLayout out;
+  std::vector<LoopPath> paths;
+  for (const DesignStrip& st : d.strips()) paths.push_back(st.path);
+  out.computed = compute(s, paths, d.field().singularities);
+  if (primal) {
+    const auto t0 = Clock::now();
+    out.layout = build_quad_layout(s, out.computed.arrangement, out.computed.regions, d.field().singularities);
+    out.layout_ms = millis(t0, Clock::now());
+  }
+  return out;
+}
+
+py::dict layout_dict(const Surface& s, const std::vector<Singularity>& singular, const DesignLayout& dl,
+                     bool details) {
+  const QuadLayout& L = dl.layout;
+  const LoopArrangement& A = dl.computed.arrangement;
+  const Similarity& sim = s.similarity;
+  py::dict out = regions_dict(s, singular, dl.computed, details);
+
+  py::list vertices;
+  std::map<int, int> irregular, boundary_valence;
+  for (const PrimalVertex& v : L.vertices) {
+    py::dict d;
+    const Vec3 p = sim.to_model(v.position);
+    d["position"] = std::vector<double>{p.x(), p.y(), p.z()};
+    d["valence"] = v.valence;
+    d["boundary"] = v.boundary;
+    d["region"] = v.region;
+    d["placement"] = placement_name(v.placement);
+    vertices.append(d);
+    if (v.boundary) ++boundary_valence[v.valence];
+    else if (v.valence != 4) ++irregular[v.valence];
+  }
+  py::list edges;
+  for (const PrimalEdge& e : L.edges) {
+    std::vector<Vec3> pts;
+    for (Index v : e.path) pts.push_back(sim.to_model(A.mesh.positions[v]));
+    py::dict d;
+    d["points"] = points_array(pts);
+    d["vertices"] = std::vector<Index>{e.v0, e.v1};
+    d["arc"] = e.arc;
+    d["loop"] = A.arcs[e.arc].loop;
+    d["sharp"] = e.sharp;
+    d["boundary"] = e.boundary;
+    d["length"] = e.length * sim.scale;
+    edges.append(d);
+  }
+  py::list patches;
+  double deviation_sum = 0, deviation_max = 0;
+  int corners = 0;
+  for (const PrimalPatch& p : L.patches) {
+    py::dict d;
+    d["edges"] = std::vector<Index>(p.edges.begin(), p.edges.end());
+    d["reversed"] = std::vector<bool>(p.reversed.begin(), p.reversed.end());
+    d["corners"] = std::vector<Index>(p.corners.begin(), p.corners.end());
+    std::vector<double> angles;
+    if (p.quad) {
+      for (double a : p.corner_angle) {
+        const double deg = a * 180.0 / M_PI;
+        angles.push_back(deg);
+        deviation_sum += std::abs(deg - 90.0);
+        deviation_max = std::max(deviation_max, std::abs(deg - 90.0));
+        ++corners;
+      }
+    }
+    d["corner_angles_deg"] = angles;
+    d["area"] = p.area * sim.scale * sim.scale;
+    d["quad"] = p.quad;
+    patches.append(d);
+  }
+  auto counts = [](const std::map<int, int>& m) {
+    py::dict d;
+    for (const auto& [valence, n] : m) d[py::str(std::to_string(valence))] = n;
+    return d;
+  };
+  const Index V = static_cast<Index>(L.vertices.size()), E = static_cast<Index>(L.edges.size()),
+              F = static_cast<Index>(L.patches.size());
+  py::dict summary, deviation, euler;
+  deviation["mean"] = corners ? deviation_sum / corners : 0.0;
+  deviation["max"] = deviation_max;
+  euler["V"] = V, euler["E"] = E, euler["F"] = F;
+  euler["chi"] = s.mesh.num_vertices() - s.topology.num_edges() + s.mesh.num_triangles();
+  summary["patches"] = F;
+  summary["irregular_vertices"] = counts(irregular);
+  summary["boundary_vertices"] = counts(boundary_valence);
+  summary["corner_deviation_deg"] = deviation;
+  summary["euler"] = euler;
+  out["vertices"] = vertices;
+  out["edges"] = edges;
+  out["patches"] = patches;
+  out["summary"] = summary;
+  out["problems"] = L.problems;
+  out["layout_ms"] = dl.layout_ms;
+  if (details) out["patch_of_triangle"] = L.triangle_patch;
+  return out;
+}
+
+py::dict network_dict(const PatchNetwork& net) {
+  py::list edges, patches;
+  for (const NetworkEdge& e : net.edges) {
+    py::dict d;
+    d["points"] = points_array(e.points);
+    d["vertices"] = std::vector<Index>{e.v0, e.v1};
+    d["sharp"] = e.sharp;
+    d["boundary"] = e.boundary;
+    edges.append(d);
+  }
+  for (const NetworkPatch& p : net.patches) {
+    py::dict d;
+    d["edges"] = std::vector<Index>(p.edges.begin(), p.edges.end());
+    d["reversed"] = std::vector<bool>(p.reversed.begin(), p.reversed.end());
+    d["vertices"] = points_array(p.mesh.positions);
+    py::array_t<std::int32_t> tris({static_cast<py::ssize_t>(p.mesh.num_triangles()), py::ssize_t(3)});
+    auto o = tris.mutable_unchecked<2>();
+    for (Index t = 0; t < p.mesh.num_triangles(); ++t)
+      for (int j = 0; j < 3; ++j) o(t, j) = p.mesh.triangles[t][j];
+    d["triangles"] = tris;
+    d["corners"] = std::vector<Index>(p.corners.begin(), p.corners.end());
+    d["source_face"] = p.source_face;
+    patches.append(d);
+  }
+  py::dict out;
+  out["vertices"] = points_array(net.vertices);
+  out["edges"] = edges;
+  out["patches"] = patches;
+  out["bbox_diagonal"] = net.bbox_diagonal;
+  return out;
+}
+
+}  // namespace
+
+void bind_layout(py::module_& m, py::class_<DesignState, std::shared_ptr<DesignState>>& state) {
+  m.def(
+      "layout",
+      [](const LoopSession& session, const std::vector<Loop>& loops, const std::vector<Index>& singular_vertices,
+         const std::vector<int>& quarter_indices, bool details) {
+        const Surface& s = session.surface();
+        const std::vector<Singularity> singular = singularities_from(s, singular_vertices, quarter_indices);
+        DesignLayout dl;
+        {
+          py::gil_scoped_release release;
+          std::vector<LoopPath> paths;
+          for (const Loop& loop : loops) {
+            LoopPath lp;
+            lp.path = session.embed(loop);
+            lp.closed = loop.closed;
+            paths.push_back(std::move(lp));
+          }
+          dl.computed = compute(s, paths, singular);
+          const auto t0 = Clock::now();
+          dl.layout = build_quad_layout(s, dl.computed.arrangement, dl.computed.regions, singular);
+          dl.layout_ms = millis(t0, Clock::now());
+        }
+        return layout_dict(s, singular, dl, details);
+      },
+      py::arg("session"), py::arg("loops"), py::arg("singular_vertices") = std::vector<Index>(),
+      py::arg("quarter_indices") = std::vector<int>(), py::arg("details") = false,
+      "The regions and primal quad layout of loops (paper §7; model units)");
+  state.def(
+      "regions",
+      [](const DesignState& d, bool details) {
+        DesignLayout dl;
+        {
+          py::gil_scoped_release release;
+          dl = design_layout(d, false);
+        }
+        return regions_dict(d.surface(), d.field().singularities, dl.computed, details);
+      },
+      py::arg("details") = false, "The arrangement of the design's loops and its regions (paper §4.2)");
+  state.def(
+      "layout",
+      [](const DesignState& d, bool details) {
+        DesignLayout dl;
+        {
+          py::gil_scoped_release release;
+          dl = design_layout(d, true);
+        }
+        return layout_dict(d.surface(), d.field().singularities, dl, details);
+      },
+      py::arg("details") = false, "The design's regions and primal quad layout (paper §7)");
+  state.def(
+      "patch_network",
+      [](const DesignState& d) {
+        PatchNetwork net;
+        {
+          py::gil_scoped_release release;
+          const DesignLayout dl = design_layout(d, true);
+          net = patch_network_of(d.surface(), dl.computed.arrangement, dl.layout);
+        }
+        return network_dict(net);
+      },
+      "The quad layout as the surfacing stage takes it (model units)");
+}
+
+}  // namespace stripweave_python

@@ -1,0 +1,40 @@
+// Shared by the regions and layout bindings: the arrangement and regions of
+// a set of embedded loops, and their dict form (bind_regions.cpp).
+#pragma once
+
+#include "bind.h"
+
+#include "stripweave/layout/regions.h"
+#include "stripweave/strips/design_state.h"
+
+#include <chrono>
+
+namespace stripweave_python {
+
+using Clock = std::chrono::steady_clock;
+inline double millis(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+struct Computed {
+  stripweave::LoopArrangement arrangement;
+  stripweave::Regions regions;
+  double embed_ms = 0, arrangement_ms = 0, regions_ms = 0;
+};
+
+// Segments, arrangement and regions of embedded loops (call without the GIL).
+Computed compute(const stripweave::Surface& s, std::vector<stripweave::LoopPath>& paths,
+                 const std::vector<stripweave::Singularity>& singular);
+
+// The keys documented in bind_regions.cpp.
+pybind11::dict regions_dict(const stripweave::Surface& s, const std::vector<stripweave::Singularity>& singular,
+                            const Computed& c, bool details);
+
+// Primalization (§7) as methods of DesignState (bind_layout.cpp).
+std::vector<stripweave::Singularity> singularities_from(const stripweave::Surface& s,
+                                                       const std::vector<stripweave::Index>& vertices,
+                                                       const std::vector<int>& quarter_indices);
+
+void bind_layout(pybind11::module_& m, pybind11::class_<stripweave::DesignState, std::shared_ptr<stripweave::DesignState>>& state);
+
+}  // namespace stripweave_python

@@ -1,0 +1,204 @@
+// Bindings of the surfacing stage: patch network -> fitted B-spline patches,
+// shell and STEP (surfacing/fit_patch_network.h).
+//
+// refit(surface, network, tolerance=None, step_path=None, return_brep=False,
+//       **options) -> dict
+//   network = {"vertices": (V,3) model units,
+//              "edges": [{"points": (n,3), "vertices": [i, j],
+//                         "sharp": bool, "boundary": bool}],
+//              "patches": [{"edges": [4 ints], "reversed": [4 bools],
+//                           "vertices": (n,3), "triangles": (m,3),
+//                           "corners": [4 ints], "source_face": (m,) (optional)}]}
+//   tolerance: model units (None: 1e-3 of the model's bbox diagonal).
+//   Keyword options (FitOptions): relative_tolerance, initial_spans,
+//   max_spans, smoothing, seam_weight, edge_density, edge_snap, seam_from,
+//   seam_to.
+//   Returns (lengths in model units):
+//     max_deviation, rms_deviation, per_patch [{max_deviation,
+//     rms_deviation, nu, nv, samples}], max_edge_deviation, tolerance,
+//     tolerance_met, rounds, uncoupled_patches, max_seam_gap, max_seam_angle_deg (smooth seams,
+//     middle of each seam), max_seam_angle_deg_full (whole seam),
+//     max_seam_angle_deg_regular (whole seams between valence-4 vertices),
+//     max_sharp_angle_deg, smooth_seams, sharp_seams, boundary_edges, faces,
+//     shells, free_edges, valid_shell, closed, volume (None unless closed),
+//     shell_tolerance, step_faces_read_back (None without step_path),
+//     timings_ms {step: ms}, time_s (the whole call, STEP included), and
+//     "brep" (BREP string of the shell) with return_brep=True.
+//   Runs without the GIL. Bad networks raise InputError.
+#include "bind.h"
+
+#include "stripweave/core/error.h"
+#include "stripweave/surface/surface.h"
+#include "stripweave/surfacing/fit_patch_network.h"
+#include "stripweave/surfacing/patch_shell.h"
+
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <chrono>
+
+namespace py = pybind11;
+using namespace stripweave;
+
+namespace stripweave_python {
+
+namespace {
+
+using ArrayD = py::array_t<double, py::array::c_style | py::array::forcecast>;
+using ArrayI = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>;
+
+std::vector<Vec3> points_of(const py::handle& h, const char* what) {
+  const ArrayD a = py::cast<ArrayD>(h);
+  if (a.ndim() != 2 || a.shape(1) != 3) throw InputError(std::string(what) + " must be an (n, 3) array");
+  auto r = a.unchecked<2>();
+  std::vector<Vec3> out;
+  out.reserve(r.shape(0));
+  for (py::ssize_t i = 0; i < r.shape(0); ++i) out.emplace_back(r(i, 0), r(i, 1), r(i, 2));
+  return out;
+}
+
+template <size_t N, typename T>
+std::array<T, N> fixed_list(const py::handle& h, const char* what) {
+  const auto v = py::cast<std::vector<T>>(h);
+  if (v.size() != N) throw InputError(std::string(what) + " must list " + std::to_string(N) + " values");
+  std::array<T, N> out;
+  std::copy(v.begin(), v.end(), out.begin());
+  return out;
+}
+
+py::object item(const py::dict& d, const char* key, const char* what) {
+  if (!d.contains(key)) throw InputError(std::string(what) + " has no \"" + key + "\"");
+  return d[key];
+}
+
+PatchNetwork network_from(const py::dict& net, double diagonal) {
+  PatchNetwork n;
+  n.bbox_diagonal = diagonal;
+  n.vertices = points_of(item(net, "vertices", "network"), "network vertices");
+  for (const py::handle& eh : py::cast<py::list>(item(net, "edges", "network"))) {
+    const py::dict e = py::cast<py::dict>(eh);
+    NetworkEdge E;
+    E.points = points_of(item(e, "points", "an edge"), "edge points");
+    const auto v = fixed_list<2, Index>(item(e, "vertices", "an edge"), "edge vertices");
+    E.v0 = v[0], E.v1 = v[1];
+    E.sharp = e.contains("sharp") && py::cast<bool>(e["sharp"]);
+    E.boundary = e.contains("boundary") && py::cast<bool>(e["boundary"]);
+    n.edges.push_back(std::move(E));
+  }
+  for (const py::handle& ph : py::cast<py::list>(item(net, "patches", "network"))) {
+    const py::dict p = py::cast<py::dict>(ph);
+    NetworkPatch P;
+    P.edges = fixed_list<4, Index>(item(p, "edges", "a patch"), "patch edges");
+    P.reversed = fixed_list<4, bool>(item(p, "reversed", "a patch"), "patch reversed");
+    P.corners = fixed_list<4, Index>(item(p, "corners", "a patch"), "patch corners");
+    P.mesh.positions = points_of(item(p, "vertices", "a patch"), "patch vertices");
+    const ArrayI t = py::cast<ArrayI>(item(p, "triangles", "a patch"));
+    if (t.ndim() != 2 || t.shape(1) != 3) throw InputError("patch triangles must be an (m, 3) array");
+    auto tr = t.unchecked<2>();
+    for (py::ssize_t i = 0; i < tr.shape(0); ++i) {
+      Tri f{Index(tr(i, 0)), Index(tr(i, 1)), Index(tr(i, 2))};
+      for (Index v : f)
+        if (v < 0 || v >= P.mesh.num_vertices()) throw InputError("a patch triangle names a vertex that does not exist");
+      P.mesh.triangles.push_back(f);
+    }
+    if (p.contains("source_face") && !p["source_face"].is_none()) {
+      const ArrayI f = py::cast<ArrayI>(p["source_face"]);
+      if (f.ndim() != 1 || f.shape(0) != tr.shape(0))
+        throw InputError("patch source_face must hold one face id per triangle");
+      auto fr = f.unchecked<1>();
+      for (py::ssize_t i = 0; i < fr.shape(0); ++i) P.source_face.push_back(Index(fr(i)));
+    }
+    n.patches.push_back(std::move(P));
+  }
+  return n;
+}
+
+FitOptions options_from(const py::kwargs& kw) {
+  FitOptions o;
+  for (const auto& [k, v] : kw) {
+    const std::string key = py::cast<std::string>(k);
+    if (key == "relative_tolerance") o.relative_tolerance = py::cast<double>(v);
+    else if (key == "initial_spans") o.initial_spans = py::cast<int>(v);
+    else if (key == "max_spans") o.max_spans = py::cast<int>(v);
+    else if (key == "smoothing") o.smoothing = py::cast<double>(v);
+    else if (key == "seam_weight") o.seam_weight = py::cast<double>(v);
+    else if (key == "edge_density") o.edge_density = py::cast<int>(v);
+    else if (key == "edge_snap") o.edge_snap = py::cast<double>(v);
+    else if (key == "seam_from") o.seam_from = py::cast<double>(v);
+    else if (key == "seam_to") o.seam_to = py::cast<double>(v);
+    else throw InputError("refit: unknown option '" + key + "'");
+  }
+  return o;
+}
+
+}  // namespace
+
+void bind_surfacing(py::module_& m) {
+  m.def("refit", [](const Surface& surface, const py::dict& network, std::optional<double> tolerance,
+                    std::optional<std::string> step_path, bool return_brep, const py::kwargs& kw) {
+        FitOptions options = options_from(kw);
+        if (tolerance) {
+          if (!(*tolerance > 0)) throw InputError("refit: the tolerance must be positive");
+          options.tolerance = *tolerance;
+        }
+        const PatchNetwork net = network_from(network, surface.similarity.scale);
+        FitResult result;
+        Index read_back = -1;
+        std::string brep;
+        double total_s = 0;
+        {
+          py::gil_scoped_release release;
+          const auto start = std::chrono::steady_clock::now();
+          result = fit_patch_network(surface, net, options);
+          if (step_path) read_back = write_step(result, *step_path);
+          if (return_brep && result.shell) brep = to_brep_string(*result.shell);
+          total_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        }
+        const FitReport& r = result.report;
+        py::dict d;
+        d["max_deviation"] = r.max_deviation;
+        d["rms_deviation"] = r.rms_deviation;
+        py::list per_patch;
+        for (const PatchFitFigures& f : r.per_patch) {
+          py::dict p;
+          p["max_deviation"] = f.max_deviation;
+          p["rms_deviation"] = f.rms_deviation;
+          p["nu"] = f.nu;
+          p["nv"] = f.nv;
+          p["samples"] = f.samples;
+          per_patch.append(p);
+        }
+        d["per_patch"] = per_patch;
+        d["max_edge_deviation"] = r.max_edge_deviation;
+        d["tolerance"] = r.tolerance;
+        d["tolerance_met"] = r.tolerance_met;
+        d["rounds"] = r.rounds;
+        d["uncoupled_patches"] = r.uncoupled_patches;
+        d["max_seam_gap"] = r.max_seam_gap;
+        d["max_seam_angle_deg"] = r.max_seam_angle_deg;
+        d["max_seam_angle_deg_full"] = r.max_seam_angle_deg_full;
+        d["max_seam_angle_deg_regular"] = r.max_seam_angle_deg_regular;
+        d["max_sharp_angle_deg"] = r.max_sharp_angle_deg;
+        d["smooth_seams"] = r.smooth_seams;
+        d["sharp_seams"] = r.sharp_seams;
+        d["boundary_edges"] = r.boundary_edges;
+        d["faces"] = r.faces;
+        d["shells"] = r.shells;
+        d["free_edges"] = r.free_edges;
+        d["valid_shell"] = r.valid_shell;
+        d["closed"] = r.closed;
+        d["volume"] = r.closed ? py::object(py::float_(r.volume)) : py::object(py::none());
+        d["shell_tolerance"] = r.shell_tolerance;
+        d["step_faces_read_back"] = read_back >= 0 ? py::object(py::int_(read_back)) : py::object(py::none());
+        py::dict timings;
+        for (const auto& [name, ms] : r.timings) timings[py::str(name)] = ms;
+        d["timings_ms"] = timings;
+        d["time_s"] = total_s;
+        if (return_brep) d["brep"] = brep;
+        return d;
+      }, py::arg("surface"), py::arg("network"), py::arg("tolerance") = py::none(), py::arg("step_path") = py::none(),
+      py::arg("return_brep") = false,
+      "Fit B-spline patches to a quad patch network, sew them, optionally write STEP AP214 (see bind_surfacing.cpp)");
+}
+
+}  // namespace stripweave_python

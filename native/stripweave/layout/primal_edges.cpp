@@ -1,0 +1,225 @@
+// Primal edges: one per arc, routed through the corridor of the two regions
+// the arc separates (paper §7; rules in quad_layout.h).
+//
+// Every region grows one shortest-path tree from its vertex over the wedges
+// of the cut-open surface. A primal edge is the tree path from the left
+// region's vertex to a point x of the arc, then across the arc (x's wedge on
+// the other side is the same point), then the right tree's path to the
+// right vertex; x minimizes the sum of the two distances, so the edge is the
+// shortest corridor path that crosses its arc exactly once. Because each
+// half lies in one tree, two edges leaving the same vertex never cross (at
+// worst they share a first stretch, which cut_primal_patches reports), and
+// edges in different regions meet only at their own arc.
+//
+// Costs: a refined edge costs its length, times kCheap on a sharp feature
+// or the open boundary (a primal edge whose corridor holds a crease follows
+// it, and edges of boundary regions run along the boundary between boundary
+// vertices), times kOnLoop along a loop (an edge running along its arc on
+// one side, and its neighbour's on the other, would coincide). Paths never
+// pass through a loop crossing, which would pinch its patch.
+#include "stripweave/layout/primalization.h"
+
+#include <algorithm>
+#include <limits>
+#include <queue>
+
+namespace stripweave {
+
+namespace {
+
+constexpr double kCheap = 0.4;
+constexpr double kOnLoop = 4.0;
+
+// Whether the refined triangle t holds the directed edge a -> b.
+bool has_directed(const TriangleMesh& m, Index t, Index a, Index b) {
+  const Tri& f = m.triangles[t];
+  for (int i = 0; i < 3; ++i)
+    if (f[i] == a && f[(i + 1) % 3] == b) return true;
+  return false;
+}
+
+}  // namespace
+
+std::vector<PrimalEdge> route_primal_edges(const PrimalContext& ctx, const std::vector<Index>& vertex_wedge,
+                                           std::vector<std::string>& problems) {
+  const LoopArrangement& A = ctx.arrangement;
+  const TriangleMesh& m = A.mesh;
+  const MeshTopology& rt = A.topology;
+
+  auto cost = [&](Index e) {
+    double c = ctx.edge_length[e];
+    if (ctx.edge_feature[e] || rt.is_boundary_edge(e)) c *= kCheap;
+    if (A.on_loop(e)) c *= kOnLoop;
+    return c;
+  };
+  auto blocked = [&](Index w) { return ctx.vertex_crossing[ctx.wedges.vertex[w]] != 0; };
+  std::vector<Index> pred;
+  const std::vector<double> dist = ctx.shortest_paths(vertex_wedge, cost, blocked, &pred);
+
+  // The wedges (left, right) of arc vertex i: the sides of the arc's edge i
+  // (or i - 1 for the last vertex of an open arc).
+  auto sides = [&](const LoopArc& arc, size_t i) {
+    const size_t n = arc.edges.size();
+    const size_t k = i < n ? i : n - 1;
+    const Index a = arc.vertices[k], b = arc.vertices[(k + 1) % arc.vertices.size()];
+    const auto& et = rt.edge_triangles[arc.edges[k]];
+    Index left = et[0], right = et[1];
+    if (!has_directed(m, left, a, b)) std::swap(left, right);
+    const Index x = arc.vertices[i];
+    auto wedge = [&](Index t) { return t == kInvalid ? kInvalid : ctx.wedges.of(t, corner_of(m, t, x)); };
+    return std::pair<Index, Index>(wedge(left), wedge(right));
+  };
+  auto trace = [&](Index w) {
+    std::vector<Index> path;
+    for (; w != kInvalid; w = pred[w]) path.push_back(ctx.wedges.vertex[w]);
+    return path;  // from w back to its tree's root
+  };
+
+  // First guess per arc: the two trees' paths (crossing where their
+  // distances sum to the least), and how cheap per unit length it is.
+  const double inf = std::numeric_limits<double>::infinity();
+  const Index na = static_cast<Index>(A.arcs.size());
+  std::vector<std::vector<Index>> guess(na);
+  std::vector<Index> guess_crossing(na, 0);
+  std::vector<double> cheapness(na, inf);
+  for (Index k = 0; k < na; ++k) {
+    const LoopArc& arc = A.arcs[k];
+    if (ctx.regions.arc_left[k] == kInvalid || ctx.regions.arc_right[k] == kInvalid) continue;
+    double best = inf;
+    std::pair<Index, Index> at{kInvalid, kInvalid};
+    for (size_t i = 0; i < arc.vertices.size(); ++i) {
+      if (ctx.vertex_crossing[arc.vertices[i]]) continue;
+      const auto [wl, wr] = sides(arc, i);
+      if (wl == kInvalid || wr == kInvalid) continue;
+      const double d = dist[wl] + dist[wr];
+      if (d < best) best = d, at = {wl, wr};
+    }
+    if (best == inf) continue;
+    std::vector<Index> left = trace(at.first), right = trace(at.second);
+    std::reverse(left.begin(), left.end());
+    guess_crossing[k] = static_cast<Index>(left.size()) - 1;
+    guess[k] = left;
+    guess[k].insert(guess[k].end(), right.begin() + 1, right.end());  // x once
+    double length = 0;
+    for (size_t i = 0; i + 1 < guess[k].size(); ++i) length += ctx.edge_length[rt.find_edge(guess[k][i], guess[k][i + 1])];
+    cheapness[k] = length > 0 ? best / length : 1.0;
+  }
+
+  // Route the arcs one by one, cheapest per unit length first (those that
+  // follow a crease or the boundary claim it), each path blocking its inner
+  // vertices for the later ones: mesh-edge paths can only cross or overlap
+  // at a shared vertex, so the primal edges end up disjoint but for their
+  // end vertices. Each route is a shortest path from the left vertex to the
+  // right one over the two regions' wedges in two layers, the only way from
+  // layer 0 to layer 1 being across this arc (once, also when both sides
+  // are one region, as on a torus).
+  std::vector<Index> order(na);
+  for (Index k = 0; k < na; ++k) order[k] = k;
+  std::stable_sort(order.begin(), order.end(), [&](Index a, Index b) { return cheapness[a] < cheapness[b]; });
+  std::vector<std::uint8_t> used(m.num_vertices(), 0);
+  const Index nw = ctx.wedges.count();
+  std::vector<double> d2(2 * static_cast<size_t>(nw), inf);
+  std::vector<Index> p2(2 * static_cast<size_t>(nw), kInvalid);
+  std::vector<Index> touched;
+  std::vector<std::vector<Index>> routed(na);
+  std::vector<Index> routed_crossing(na, 0);
+  for (Index k : order) {
+    if (guess[k].empty()) continue;
+    const LoopArc& arc = A.arcs[k];
+    const Index L = ctx.regions.arc_left[k], R = ctx.regions.arc_right[k];
+    std::vector<std::pair<Index, Index>> links;  // (from wedge in layer 0, to wedge in layer 1)
+    for (size_t i = 0; i < arc.vertices.size(); ++i) {
+      if (ctx.vertex_crossing[arc.vertices[i]] || used[arc.vertices[i]]) continue;
+      const auto [wl, wr] = sides(arc, i);
+      if (wl == kInvalid || wr == kInvalid) continue;
+      links.push_back({wl, wr});
+      links.push_back({wr, wl});
+    }
+    std::sort(links.begin(), links.end());
+    const Index source = vertex_wedge[L], target = nw + vertex_wedge[R];
+    for (Index x : touched) d2[x] = inf, p2[x] = kInvalid;
+    touched.clear();
+    using Item = std::pair<double, Index>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
+    d2[source] = 0, touched.push_back(source), heap.push({0.0, source});
+    auto relax = [&](Index from, Index to, double nd) {
+      if (nd >= d2[to]) return;
+      if (d2[to] == inf) touched.push_back(to);
+      d2[to] = nd, p2[to] = from;
+      heap.push({nd, to});
+    };
+    while (!heap.empty()) {
+      const auto [d, x] = heap.top();
+      heap.pop();
+      if (d > d2[x]) continue;
+      if (x == target) break;
+      const Index layer = x >= nw, w = x - layer * nw;
+      if (x != source && used[ctx.wedges.vertex[w]]) continue;  // reached, but not passed through
+      for (Index j = ctx.wedge_neighbours.offsets[w]; j < ctx.wedge_neighbours.offsets[w + 1]; ++j) {
+        const Index y = ctx.wedge_neighbours.indices[j];
+        const Index r = ctx.wedge_region[y];
+        if ((r != L && r != R) || blocked(y)) continue;
+        const Index yv = ctx.wedges.vertex[y];
+        if (used[yv] && y + layer * nw != target) continue;
+        relax(x, y + layer * nw, d + cost(ctx.wedge_neighbour_edge.indices[j]));
+      }
+      if (layer == 0) {
+        auto it = std::lower_bound(links.begin(), links.end(), std::pair<Index, Index>(w, kInvalid));
+        for (; it != links.end() && it->first == w; ++it) relax(x, nw + it->second, d);
+      }
+    }
+    if (d2[target] == inf) {
+      problems.push_back("arc " + std::to_string(k) + " (loop " + std::to_string(arc.loop) +
+                         "): the primal edges routed before it leave no free corridor; it overlaps them");
+      routed[k] = guess[k];
+      routed_crossing[k] = guess_crossing[k];
+      continue;
+    }
+    std::vector<Index> path;
+    Index crossing_at = 0;
+    for (Index x = target; x != kInvalid; x = p2[x]) {
+      const Index w = x >= nw ? x - nw : x;
+      // The crossing link joins two wedges of one vertex: keep it once.
+      if (!path.empty() && path.back() == ctx.wedges.vertex[w]) {
+        crossing_at = static_cast<Index>(path.size()) - 1;
+        continue;
+      }
+      path.push_back(ctx.wedges.vertex[w]);
+    }
+    std::reverse(path.begin(), path.end());
+    crossing_at = static_cast<Index>(path.size()) - 1 - crossing_at;
+    for (size_t i = 1; i + 1 < path.size(); ++i) used[path[i]] = 1;
+    routed[k] = std::move(path);
+    routed_crossing[k] = crossing_at;
+  }
+
+  std::vector<PrimalEdge> edges;
+  for (Index k = 0; k < na; ++k) {
+    PrimalEdge edge;
+    edge.arc = k;
+    edge.v0 = ctx.regions.arc_left[k];
+    edge.v1 = ctx.regions.arc_right[k];
+    if (routed[k].empty()) {
+      problems.push_back("arc " + std::to_string(k) + " (loop " + std::to_string(A.arcs[k].loop) +
+                         "): no corridor path joins its two regions' vertices");
+      continue;
+    }
+    edge.path = std::move(routed[k]);
+    edge.crossing = routed_crossing[k];
+    double sharp = 0, boundary = 0;
+    for (size_t i = 0; i + 1 < edge.path.size(); ++i) {
+      const Index e = rt.find_edge(edge.path[i], edge.path[i + 1]);
+      const double len = ctx.edge_length[e];
+      edge.length += len;
+      sharp += ctx.edge_feature[e] ? len : 0;
+      boundary += rt.is_boundary_edge(e) ? len : 0;
+    }
+    // "Most of its length": the ends may step off a crease to reach a vertex.
+    edge.sharp = sharp > 0.9 * edge.length;
+    edge.boundary = boundary > 0.9 * edge.length;
+    edges.push_back(std::move(edge));
+  }
+  return edges;
+}
+
+}  // namespace stripweave

@@ -1,0 +1,133 @@
+// Primal vertices: one per region (paper §7), placed by the rules of
+// quad_layout.h. Why this order: a corner of the part (a boundary corner, a
+// junction of creases) is where a CAD engineer expects a patch corner, and
+// a patch corner anywhere else on it would leave a crease or a boundary
+// kink inside a patch. A region touching the open boundary must put its
+// vertex there so that the boundary is covered by primal edges. Otherwise
+// the region's one singularity is the irregular vertex the field asks for
+// (a region of valence != 4 holds at least one), unless it lies closer to
+// the loops than half the region's inradius; failing that the point
+// farthest from the loops keeps the vertex well inside its corridor.
+#include "stripweave/layout/primalization.h"
+
+#include <cmath>
+
+namespace stripweave {
+
+namespace {
+
+constexpr double kCornerTurn = 30.0 * M_PI / 180.0;  // a boundary turning more than this is a corner
+
+double corner_angle(const Vec3& at, const Vec3& a, const Vec3& b) {
+  const Vec3 u = a - at, w = b - at;
+  return std::atan2(u.cross(w).norm(), u.dot(w));
+}
+
+// Per surface vertex: how much of a corner it is (0 if none). On the open
+// boundary the turn |pi - angle sum|; inside, where three or more sharp
+// feature edges meet, the angle defect |2 pi - angle sum| (a cube corner's
+// pi/2), at least a small positive amount so a flat junction still counts.
+std::vector<double> corner_strength(const Surface& s) {
+  const Index nv = s.mesh.num_vertices();
+  std::vector<double> angle_sum(nv, 0.0);
+  for (const Tri& f : s.mesh.triangles)
+    for (int k = 0; k < 3; ++k)
+      angle_sum[f[k]] += corner_angle(s.mesh.positions[f[k]], s.mesh.positions[f[(k + 1) % 3]],
+                                      s.mesh.positions[f[(k + 2) % 3]]);
+  std::vector<int> features(nv, 0);
+  std::vector<std::uint8_t> boundary(nv, 0);
+  for (Index e = 0; e < s.topology.num_edges(); ++e) {
+    for (Index v : s.topology.edges[e]) {
+      features[v] += s.edge_class[e] == EdgeClass::Feature;
+      boundary[v] |= s.topology.is_boundary_edge(e);
+    }
+  }
+  std::vector<double> strength(nv, 0.0);
+  for (Index v = 0; v < nv; ++v) {
+    if (boundary[v]) {
+      const double turn = std::abs(M_PI - angle_sum[v]);
+      if (turn > kCornerTurn) strength[v] = turn;
+    } else if (features[v] >= 3) {
+      strength[v] = std::max(std::abs(2 * M_PI - angle_sum[v]), 1e-3);
+    }
+  }
+  return strength;
+}
+
+}  // namespace
+
+std::vector<PrimalVertex> place_primal_vertices(const PrimalContext& ctx, const std::vector<Singularity>& singularities,
+                                                std::vector<Index>& vertex_wedge) {
+  const LoopArrangement& A = ctx.arrangement;
+  const Index nr = static_cast<Index>(ctx.regions.regions.size());
+  const Index nw = ctx.wedges.count();
+  const std::vector<double> strength = corner_strength(ctx.surface);
+
+  // Distance from the loops, within each region.
+  std::vector<Index> on_loops;
+  for (Index w = 0; w < nw; ++w)
+    if (ctx.vertex_on_loop[ctx.wedges.vertex[w]]) on_loops.push_back(w);
+  const std::vector<double> clearance = ctx.shortest_paths(
+      on_loops, [&](Index e) { return ctx.edge_length[e]; }, [](Index) { return false; }, nullptr);
+
+  // Candidates per region, each rule keeping its best wedge.
+  enum { kCorner, kBoundary, kSingularity, kCentre, kRules };
+  std::vector<std::array<Index, kRules>> best(nr, {kInvalid, kInvalid, kInvalid, kInvalid});
+  std::vector<std::array<double, kRules>> score(nr, {-1.0, -1.0, -1.0, -1.0});
+  auto offer = [&](Index rule, Index w, double value) {
+    const Index r = ctx.wedge_region[w];
+    if (value > score[r][rule]) score[r][rule] = value, best[r][rule] = w;
+  };
+  const Index surface_vertices = ctx.surface.mesh.num_vertices();
+  for (Index w = 0; w < nw; ++w) {
+    const Index v = ctx.wedges.vertex[w];
+    if (ctx.vertex_on_loop[v]) continue;  // a vertex on a loop would sit on its own dual edge
+    const Index sv = A.original_vertex[v];
+    if (sv != kInvalid && sv < surface_vertices && strength[sv] > 0) offer(kCorner, w, strength[sv]);
+    if (ctx.vertex_on_boundary[v]) offer(kBoundary, w, clearance[w]);
+    offer(kCentre, w, clearance[w]);
+  }
+  for (Index r = 0; r < nr; ++r) {
+    const Region& region = ctx.regions.regions[r];
+    if (region.singularities.size() != 1) continue;
+    const Index sv = singularities[region.singularities[0]].vertex;
+    // The refined mesh keeps the surface's vertices under their ids.
+    for (const Index* t = A.topology.vertex_triangles.begin(sv); t != A.topology.vertex_triangles.end(sv); ++t) {
+      const int c = corner_of(A.mesh, *t, sv);
+      const Index w = ctx.wedges.of(*t, c);
+      // A singularity pressed against the loops (less than half the
+      // region's inradius from them) would squeeze its patches' corners;
+      // the centre serves the region better then.
+      if (ctx.wedge_region[w] == r && !ctx.vertex_crossing[sv]) {
+        if (clearance[w] >= 0.5 * score[r][kCentre]) best[r][kSingularity] = w;
+        break;
+      }
+    }
+  }
+
+  std::vector<PrimalVertex> vertices(nr);
+  vertex_wedge.assign(nr, kInvalid);
+  for (Index r = 0; r < nr; ++r) {
+    PrimalVertex& pv = vertices[r];
+    pv.region = r;
+    for (Index rule = 0; rule < kRules; ++rule) {
+      if (best[r][rule] == kInvalid) continue;
+      vertex_wedge[r] = best[r][rule];
+      pv.placement = static_cast<VertexPlacement>(rule);
+      break;
+    }
+    if (vertex_wedge[r] == kInvalid) {
+      // A region without a vertex off its loops (a sliver between two loops
+      // closer than one refined edge): take any of its wedges.
+      for (Index w = 0; w < nw && vertex_wedge[r] == kInvalid; ++w)
+        if (ctx.wedge_region[w] == r && !ctx.vertex_crossing[ctx.wedges.vertex[w]]) vertex_wedge[r] = w;
+    }
+    if (vertex_wedge[r] == kInvalid) continue;
+    pv.refined_vertex = ctx.wedges.vertex[vertex_wedge[r]];
+    pv.position = A.mesh.positions[pv.refined_vertex];
+    pv.boundary = ctx.vertex_on_boundary[pv.refined_vertex];
+  }
+  return vertices;
+}
+
+}  // namespace stripweave

@@ -1,0 +1,51 @@
+// The steps of build_quad_layout (quad_layout.h), shared among its files.
+//
+// PrimalContext: the arrangement's refined mesh seen as the graph the primal
+//   geometry is routed on: its wedges cut open along the loops (a wedge lies
+//   in one region; a path over wedges never crosses a loop), the wedge graph
+//   (two wedges are joined by each triangle side between them) with a cost
+//   per refined edge, and which refined edges lie on sharp features or on
+//   the open boundary.
+//
+// place_primal_vertices  one vertex per region (rules in quad_layout.h);
+//                        fills vertex_wedge (per region, the wedge it is at)
+// route_primal_edges     one edge per arc (quad_layout.h)
+// cut_primal_patches     patches, triangle_patch, patch_wedges
+#pragma once
+
+#include "stripweave/layout/quad_layout.h"
+
+namespace stripweave {
+
+struct PrimalContext {
+  const Surface& surface;
+  const LoopArrangement& arrangement;
+  const Regions& regions;
+
+  Wedges wedges;                          // cut along the loops
+  std::vector<Index> wedge_region;        // per wedge
+  Csr wedge_neighbours;                   // the wedge graph
+  Csr wedge_neighbour_edge;               // per neighbour entry, the refined edge it runs along
+  std::vector<double> edge_length;        // per refined edge, normalized units
+  std::vector<std::uint8_t> edge_feature; // per refined edge: on a sharp feature curve of the surface
+  std::vector<std::uint8_t> vertex_on_loop, vertex_on_boundary, vertex_crossing;  // per refined vertex
+
+  PrimalContext(const Surface& s, const LoopArrangement& a, const Regions& g);
+
+  // Shortest paths over the wedge graph from `sources` (cost `cost(edge)`),
+  // never entering a wedge for which `blocked` holds (sources excepted).
+  // Returns the distance per wedge (infinity if unreached); pred receives
+  // the previous wedge on the path (kInvalid at sources).
+  std::vector<double> shortest_paths(const std::vector<Index>& sources, const std::function<double(Index)>& cost,
+                                     const std::function<bool(Index)>& blocked, std::vector<Index>* pred) const;
+};
+
+std::vector<PrimalVertex> place_primal_vertices(const PrimalContext& ctx, const std::vector<Singularity>& singularities,
+                                                std::vector<Index>& vertex_wedge);
+
+std::vector<PrimalEdge> route_primal_edges(const PrimalContext& ctx, const std::vector<Index>& vertex_wedge,
+                                           std::vector<std::string>& problems);
+
+void cut_primal_patches(const PrimalContext& ctx, QuadLayout& layout);
+
+}  // namespace stripweave

@@ -1,0 +1,129 @@
+// Primalization: the context the steps share, and the steps in order (see
+// quad_layout.h and primalization.h).
+#include "stripweave/layout/primalization.h"
+
+#include <limits>
+#include <queue>
+
+namespace stripweave {
+
+namespace {
+
+// The surface edge a refined edge lies on, or kInvalid. A refined vertex is
+// a surface vertex, or lies inside a surface edge, or inside a triangle.
+Index surface_edge_under(const Surface& s, const LoopArrangement& A, Index a, Index b) {
+  const Index ea = A.original_edge[a], eb = A.original_edge[b];
+  const Index oa = A.original_vertex[a], ob = A.original_vertex[b];
+  auto on = [&](Index e, Index v, Index ov, Index ev) {
+    if (ev != kInvalid) return ev == e;
+    return ov != kInvalid && (s.topology.edges[e][0] == ov || s.topology.edges[e][1] == ov);
+  };
+  if (ea != kInvalid) return on(ea, b, ob, eb) ? ea : kInvalid;
+  if (eb != kInvalid) return on(eb, a, oa, ea) ? eb : kInvalid;
+  if (oa != kInvalid && ob != kInvalid) return s.topology.find_edge(oa, ob);
+  return kInvalid;
+}
+
+}  // namespace
+
+PrimalContext::PrimalContext(const Surface& s, const LoopArrangement& a, const Regions& g)
+    : surface(s), arrangement(a), regions(g) {
+  const TriangleMesh& m = a.mesh;
+  const MeshTopology& rt = a.topology;
+  const Index nv = m.num_vertices(), nt = m.num_triangles(), ne = rt.num_edges();
+
+  wedges = cut_wedges(m, rt, [&](Index e) { return a.on_loop(e); });
+  wedge_region.assign(wedges.count(), kInvalid);
+  for (Index t = 0; t < nt; ++t)
+    for (int i = 0; i < 3; ++i) wedge_region[wedges.of(t, i)] = g.triangle_region[t];
+
+  edge_length.resize(ne);
+  edge_feature.assign(ne, 0);
+  for (Index e = 0; e < ne; ++e) {
+    const EdgeKey& k = rt.edges[e];
+    edge_length[e] = (m.positions[k[0]] - m.positions[k[1]]).norm();
+    const Index se = surface_edge_under(s, a, k[0], k[1]);
+    edge_feature[e] = se != kInvalid && s.edge_class[se] == EdgeClass::Feature;
+  }
+  vertex_on_loop.assign(nv, 0);
+  vertex_on_boundary.assign(nv, 0);
+  vertex_crossing.assign(nv, 0);
+  for (Index e = 0; e < ne; ++e) {
+    for (Index v : rt.edges[e]) {
+      vertex_on_loop[v] |= a.on_loop(e);
+      vertex_on_boundary[v] |= rt.is_boundary_edge(e);
+    }
+  }
+  for (const ArrangementNode& node : a.nodes) vertex_crossing[node.vertex] = node.crossing();
+
+  // The wedge graph: each triangle side joins the wedges at its two corners.
+  std::vector<Index> count(wedges.count() + 1, 0);
+  for (Index t = 0; t < nt; ++t)
+    for (int i = 0; i < 3; ++i) ++count[wedges.of(t, i) + 1], ++count[wedges.of(t, (i + 1) % 3) + 1];
+  for (Index w = 0; w < wedges.count(); ++w) count[w + 1] += count[w];
+  wedge_neighbours.offsets = count;
+  wedge_neighbours.indices.resize(count.back());
+  wedge_neighbour_edge.offsets = count;
+  wedge_neighbour_edge.indices.resize(count.back());
+  std::vector<Index> fill(count.begin(), count.end() - 1);
+  for (Index t = 0; t < nt; ++t) {
+    for (int i = 0; i < 3; ++i) {
+      const Index p = wedges.of(t, i), q = wedges.of(t, (i + 1) % 3), e = rt.triangle_edges[t][i];
+      wedge_neighbours.indices[fill[p]] = q, wedge_neighbour_edge.indices[fill[p]++] = e;
+      wedge_neighbours.indices[fill[q]] = p, wedge_neighbour_edge.indices[fill[q]++] = e;
+    }
+  }
+}
+
+std::vector<double> PrimalContext::shortest_paths(const std::vector<Index>& sources,
+                                                  const std::function<double(Index)>& cost,
+                                                  const std::function<bool(Index)>& blocked,
+                                                  std::vector<Index>* pred) const {
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<double> dist(wedges.count(), inf);
+  if (pred) pred->assign(wedges.count(), kInvalid);
+  using Item = std::pair<double, Index>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
+  for (Index w : sources) {
+    if (w == kInvalid) continue;
+    dist[w] = 0;
+    heap.push({0.0, w});
+  }
+  while (!heap.empty()) {
+    const auto [d, w] = heap.top();
+    heap.pop();
+    if (d > dist[w]) continue;
+    for (Index k = wedge_neighbours.offsets[w]; k < wedge_neighbours.offsets[w + 1]; ++k) {
+      const Index x = wedge_neighbours.indices[k];
+      const double nd = d + cost(wedge_neighbour_edge.indices[k]);
+      // Ties go to the smaller wedge, so that results do not depend on heap order.
+      if (nd < dist[x] || (pred && nd == dist[x] && w < (*pred)[x] && (*pred)[x] != kInvalid)) {
+        if (blocked(x)) continue;
+        const bool improved = nd < dist[x];
+        dist[x] = nd;
+        if (pred) (*pred)[x] = w;
+        if (improved) heap.push({nd, x});
+      }
+    }
+  }
+  return dist;
+}
+
+QuadLayout build_quad_layout(const Surface& s, const LoopArrangement& A, const Regions& G,
+                             const std::vector<Singularity>& singularities) {
+  QuadLayout layout;
+  layout.valid = G.valid;
+  if (!G.valid) return layout;
+  const PrimalContext ctx(s, A, G);
+  std::vector<Index> vertex_wedge;
+  layout.vertices = place_primal_vertices(ctx, singularities, vertex_wedge);
+  layout.edges = route_primal_edges(ctx, vertex_wedge, layout.problems);
+  for (const PrimalEdge& e : layout.edges) {
+    ++layout.vertices[e.v0].valence;
+    ++layout.vertices[e.v1].valence;
+  }
+  cut_primal_patches(ctx, layout);
+  return layout;
+}
+
+}  // namespace stripweave

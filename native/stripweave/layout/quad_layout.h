@@ -1,0 +1,92 @@
+// Primalization (paper §7): the quad layout that a valid set of dual loops
+// implies, embedded in the refined mesh of their arrangement.
+//
+// build_quad_layout(surface, arrangement, regions, singularities) -> QuadLayout
+//   Input : the surface; the loops' arrangement (loop_arrangement.h) and its
+//           regions (regions.h), computed with the same singularities
+//           (cross_field.h).
+//   Structure (fixed by the loops): one primal vertex per region, one primal
+//           edge per arc (a loop's piece between crossings) joining the
+//           regions on its two sides, one quad patch per crossing bounded by
+//           the edges of its four arc-ends. Only a valid design (no red
+//           region) has a layout; otherwise the result is empty.
+//   Geometry (proposed, as the paper's assistance; primal_*.cpp):
+//     vertices  primal_vertices.cpp: in order of preference a corner of the
+//               region (a boundary corner, or where three or more sharp
+//               feature curves meet), a point on the open boundary if the
+//               region touches it, the region's single cross-field
+//               singularity (unless it is closer to the loops than half the
+//               region's inradius), else its geodesic centre (the point
+//               farthest from the loops).
+//     edges     primal_edges.cpp: shortest paths in the region cut open along
+//               the loops (each region's shortest-path tree from its vertex,
+//               so edges leaving a vertex never cross; edges of different
+//               regions meet only where they cross their arc), with sharp
+//               feature and open-boundary edges made cheap so that a primal
+//               edge whose corridor holds a crease or the boundary follows
+//               it. The edge crosses its arc once, where the two trees'
+//               distances sum to the least.
+//     patches   primal_patches.cpp: the refined mesh cut along the primal
+//               edges; each piece holds one crossing, and its boundary is
+//               read as four sides (edge runs) between four corners.
+//   Output (normalized units): see QuadLayout. `problems` lists what keeps
+//           the embedding from being a clean quad layout (a patch without
+//           four sides, two edges sharing a stretch); the structure is
+//           still reported.
+#pragma once
+
+#include "stripweave/layout/cut_wedges.h"
+#include "stripweave/layout/regions.h"
+
+#include <array>
+#include <string>
+
+namespace stripweave {
+
+enum class VertexPlacement : std::uint8_t { Corner, Boundary, Singularity, Centre };
+
+struct PrimalVertex {
+  Index region = kInvalid;
+  Index refined_vertex = kInvalid;  // in the arrangement's refined mesh
+  Vec3 position = Vec3::Zero();     // normalized units
+  int valence = 0;                  // primal edge ends at it
+  bool boundary = false;            // on the open boundary
+  VertexPlacement placement = VertexPlacement::Centre;
+};
+
+struct PrimalEdge {
+  Index arc = kInvalid;          // the arc it is dual to
+  Index v0 = kInvalid, v1 = kInvalid;  // primal vertices: left and right region of the arc
+  std::vector<Index> path;       // refined vertices from v0's to v1's
+  Index crossing = 0;            // position in `path` where it crosses its arc
+  bool sharp = false;            // runs on sharp feature curves (most of its length)
+  bool boundary = false;         // runs on the open boundary
+  double length = 0;             // normalized units
+};
+
+struct PrimalPatch {
+  Index node = kInvalid;               // the arrangement node (crossing) it holds
+  std::array<Index, 4> edges{kInvalid, kInvalid, kInvalid, kInvalid};  // counter-clockwise from outside
+  std::array<bool, 4> reversed{false, false, false, false};  // side i runs from v1 to v0
+  std::array<Index, 4> corners{kInvalid, kInvalid, kInvalid, kInvalid};  // primal vertex starting side i
+  std::array<double, 4> corner_angle{0, 0, 0, 0};  // radians, between the sides at each corner
+  std::array<Index, 4> corner_wedges{kInvalid, kInvalid, kInvalid, kInvalid};  // in QuadLayout::patch_wedges
+  std::vector<Index> triangles;        // refined triangles
+  double area = 0;                     // normalized units squared
+  bool quad = false;                   // its boundary reads as exactly four sides
+};
+
+struct QuadLayout {
+  bool valid = false;  // the design is valid (no red region): the layout exists
+  std::vector<PrimalVertex> vertices;
+  std::vector<PrimalEdge> edges;
+  std::vector<PrimalPatch> patches;
+  std::vector<Index> triangle_patch;  // per refined triangle, kInvalid outside every patch
+  Wedges patch_wedges;                // the refined mesh cut open along the primal edges
+  std::vector<std::string> problems;
+};
+
+QuadLayout build_quad_layout(const Surface& surface, const LoopArrangement& arrangement, const Regions& regions,
+                             const std::vector<Singularity>& singularities);
+
+}  // namespace stripweave

@@ -1,0 +1,127 @@
+#include "stripweave/surfacing/edge_curves.h"
+
+#include "stripweave/core/error.h"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+
+namespace stripweave {
+
+EdgeSamples sample_edge(const std::vector<Vec3>& polyline, const std::vector<std::vector<Index>>& point_faces,
+                        bool sharp, const SourceProjector& projector, int density) {
+  EdgeSamples out;
+  const size_t n = polyline.size();
+  if (n < 2) throw InputError("a network edge polyline has fewer than 2 points");
+  auto project = [&](const Vec3& p, const std::vector<Index>& faces) {
+    return sharp ? projector.on_sharp(faces, p) : projector.on_faces(faces, p);
+  };
+  // The ends are the network vertices themselves, kept exactly.
+  out.points.push_back(polyline.front());
+  for (size_t k = 0; k + 1 < n; ++k) {
+    // A point inside segment k may lie on any face of either end point.
+    std::vector<Index> faces;
+    if (!point_faces.empty()) {
+      faces = point_faces[k];
+      faces.insert(faces.end(), point_faces[k + 1].begin(), point_faces[k + 1].end());
+      std::sort(faces.begin(), faces.end());
+      faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+    }
+    for (int s = 1; s <= density; ++s) {
+      const double a = double(s) / density;
+      if (k + 2 == n && s == density) break;  // the end vertex, added below
+      const Vec3 p = (1 - a) * polyline[k] + a * polyline[k + 1];
+      out.points.push_back(project(p, s == density && !point_faces.empty() ? point_faces[k + 1] : faces));
+    }
+  }
+  out.points.push_back(polyline.back());
+  out.t.assign(out.points.size(), 0.0);
+  for (size_t k = 1; k < out.points.size(); ++k) out.t[k] = out.t[k - 1] + (out.points[k] - out.points[k - 1]).norm();
+  if (out.t.back() <= 0) throw InputError("a network edge has zero length");
+  for (double& x : out.t) x /= out.t.back();
+  return out;
+}
+
+BSplineCurve3 fit_edge_curve(const EdgeSamples& samples, const Vec3& start, const Vec3& end, int spans,
+                             double smoothing) {
+  BSplineCurve3 c;
+  c.spans = spans;
+  const int N = spans + 3;
+  c.control.assign(N, Vec3::Zero());
+  c.control.front() = start;
+  c.control.back() = end;
+  // Unknowns: controls 1..N-2 (index shifted by one).
+  const int M = N - 2;
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(M, M);
+  Eigen::MatrixXd b = Eigen::MatrixXd::Zero(M, 3);
+  const double wdata = 1.0 / samples.points.size();
+  for (size_t k = 0; k < samples.points.size(); ++k) {
+    double Nb[4];
+    const int first = cubic_basis(spans, samples.t[k], Nb);
+    Eigen::RowVector3d r = samples.points[k].transpose();
+    for (int a = 0; a < 4; ++a) {
+      const int ia = first + a;
+      if (ia == 0) r -= Nb[a] * start.transpose();
+      if (ia == N - 1) r -= Nb[a] * end.transpose();
+    }
+    for (int a = 0; a < 4; ++a) {
+      const int ia = first + a - 1;
+      if (ia < 0 || ia >= M) continue;
+      b.row(ia) += wdata * Nb[a] * r;
+      for (int c2 = 0; c2 < 4; ++c2) {
+        const int ib = first + c2 - 1;
+        if (ib >= 0 && ib < M) A(ia, ib) += wdata * Nb[a] * Nb[c2];
+      }
+    }
+  }
+  // Bending: second differences of consecutive controls.
+  const double wbend = smoothing * std::pow(double(spans), 3);
+  for (int i = 1; i + 1 < N; ++i) {
+    const int idx[3] = {i - 1, i, i + 1};
+    const double coef[3] = {1, -2, 1};
+    Eigen::RowVector3d fixed = Eigen::RowVector3d::Zero();
+    for (int a = 0; a < 3; ++a) {
+      if (idx[a] == 0) fixed += coef[a] * start.transpose();
+      if (idx[a] == N - 1) fixed += coef[a] * end.transpose();
+    }
+    for (int a = 0; a < 3; ++a) {
+      const int ia = idx[a] - 1;
+      if (ia < 0 || ia >= M) continue;
+      b.row(ia) -= wbend * coef[a] * fixed;
+      for (int c2 = 0; c2 < 3; ++c2) {
+        const int ib = idx[c2] - 1;
+        if (ib >= 0 && ib < M) A(ia, ib) += wbend * coef[a] * coef[c2];
+      }
+    }
+  }
+  // A tiny ridge keeps controls without samples at the chord (never active
+  // on densely sampled edges).
+  const double ridge = 1e-12 * std::max(A.diagonal().maxCoeff(), 1e-300);
+  for (int i = 0; i < M; ++i) {
+    A(i, i) += ridge;
+    const double s = double(i + 1) / (N - 1);
+    b.row(i) += ridge * ((1 - s) * start + s * end).transpose();
+  }
+  const Eigen::MatrixXd x = A.ldlt().solve(b);
+  for (int i = 0; i < M; ++i) c.control[i + 1] = x.row(i).transpose();
+  return c;
+}
+
+double edge_curve_deviation(const BSplineCurve3& curve, const EdgeSamples& samples) {
+  double worst = 0;
+  for (size_t k = 0; k < samples.points.size(); ++k) {
+    double t = samples.t[k];
+    const Vec3& p = samples.points[k];
+    for (int it = 0; it < 4; ++it) {
+      const Vec3 d = curve.derivative(t);
+      const double dd = d.squaredNorm();
+      if (dd <= 0) break;
+      t = std::clamp(t + (p - curve.value(t)).dot(d) / dd, 0.0, 1.0);
+    }
+    worst = std::max(worst, (curve.value(t) - p).norm());
+  }
+  return worst;
+}
+
+}  // namespace stripweave

@@ -1,0 +1,384 @@
+#include "stripweave/surfacing/fit_patch_network.h"
+
+#include "stripweave/core/error.h"
+#include "stripweave/surfacing/edge_curves.h"
+#include "stripweave/surfacing/patch_fit.h"
+#include "stripweave/surfacing/patch_parameterization.h"
+#include "stripweave/surfacing/patch_shell.h"
+#include "stripweave/surfacing/source_projection.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+
+namespace stripweave {
+
+namespace {
+
+struct SideUse {
+  Index patch = kInvalid;
+  int side = 0;
+  bool reversed = false;
+};
+
+// Union-find over network edges: the layout's strips.
+struct Strips {
+  std::vector<Index> parent;
+  explicit Strips(Index n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
+  Index find(Index a) {
+    while (parent[a] != a) a = parent[a] = parent[parent[a]];
+    return a;
+  }
+  void unite(Index a, Index b) { parent[find(a)] = find(b); }
+};
+
+std::string where(Index patch, int side) {
+  std::ostringstream s;
+  s << "side " << side << " of patch " << patch;
+  return s.str();
+}
+
+void sort_unique(std::vector<Index>& v) {
+  std::sort(v.begin(), v.end());
+  v.erase(std::unique(v.begin(), v.end()), v.end());
+}
+
+// Orthogonal deviation of the samples from the fitted patch.
+void measure(const BSplinePatch& patch, const PatchSamples& s, PatchFitFigures& fig) {
+  double worst = 0, sum2 = 0;
+  for (size_t k = 0; k < s.points.size(); ++k) {
+    const double d = distance_to_patch(patch, s.points[k], s.uv[k]);
+    worst = std::max(worst, d);
+    sum2 += d * d;
+  }
+  fig.max_deviation = worst;
+  fig.rms_deviation = s.points.empty() ? 0 : std::sqrt(sum2 / s.points.size());
+  fig.samples = static_cast<Index>(s.points.size());
+  fig.nu = patch.nu, fig.nv = patch.nv;
+}
+
+double angle_deg(const Vec3& a, const Vec3& b) {
+  if (a.isZero() || b.isZero()) return 0;
+  return std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / M_PI;
+}
+
+}  // namespace
+
+FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network, const FitOptions& options) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  FitResult result;
+  FitReport& report = result.report;
+  Stopwatch watch(report.timings);
+
+  const Index nE = static_cast<Index>(network.edges.size());
+  const Index nP = static_cast<Index>(network.patches.size());
+  const Index nV = static_cast<Index>(network.vertices.size());
+  if (nP == 0) throw InputError("the patch network has no patches");
+  const double diag = network.bbox_diagonal > 0 ? network.bbox_diagonal : 1.0;
+  const double tol = options.tolerance > 0 ? options.tolerance : options.relative_tolerance * diag;
+  report.tolerance = tol;
+
+  // --- the network's incidences and consistency ---------------------------
+  for (Index e = 0; e < nE; ++e) {
+    const NetworkEdge& E = network.edges[e];
+    if (E.v0 < 0 || E.v0 >= nV || E.v1 < 0 || E.v1 >= nV)
+      throw InputError("network edge " + std::to_string(e) + " names a vertex that does not exist");
+    if (E.points.size() < 2) throw InputError("network edge " + std::to_string(e) + " has fewer than 2 points");
+  }
+  std::vector<std::vector<SideUse>> uses(nE);
+  for (Index p = 0; p < nP; ++p)
+    for (int s = 0; s < 4; ++s) {
+      const Index e = network.patches[p].edges[s];
+      if (e < 0 || e >= nE) throw InputError(where(p, s) + " names an edge that does not exist");
+      uses[e].push_back({p, s, network.patches[p].reversed[s]});
+      if (uses[e].size() > 2) throw InputError("network edge " + std::to_string(e) + " bounds more than two patch sides");
+    }
+
+  // --- 1. harmonic parameterization ----------------------------------------
+  std::vector<PatchParameterization> param(nP);
+  for (Index p = 0; p < nP; ++p) {
+    try {
+      param[p] = harmonic_square_map(network.patches[p]);
+    } catch (const InputError& e) {
+      throw InputError("patch " + std::to_string(p) + ": " + e.what());
+    }
+    for (int s = 0; s < 4; ++s) {
+      const NetworkEdge& E = network.edges[network.patches[p].edges[s]];
+      if (param[p].side_vertices[s].size() != E.points.size())
+        throw InputError(where(p, s) + " has " + std::to_string(param[p].side_vertices[s].size()) +
+                         " boundary points in the patch mesh but its edge polyline has " +
+                         std::to_string(E.points.size()));
+    }
+  }
+  watch.lap("parameterize");
+
+  // --- 2. samples on the source --------------------------------------------
+  const SourceProjector projector(surface, options.edge_snap * diag);
+  // Faces around each patch-mesh vertex.
+  std::vector<std::vector<std::vector<Index>>> vertex_faces(nP);
+  std::vector<PatchSamples> samples(nP);
+  for (Index p = 0; p < nP; ++p) {
+    const NetworkPatch& P = network.patches[p];
+    const TriangleMesh& m = P.mesh;
+    const bool has_faces = projector.exact() && P.source_face.size() == m.triangles.size();
+    auto face_of = [&](Index t) { return has_faces ? P.source_face[t] : kInvalid; };
+    auto& vf = vertex_faces[p];
+    vf.assign(m.num_vertices(), {});
+    if (has_faces) {
+      for (Index t = 0; t < m.num_triangles(); ++t)
+        for (Index v : m.triangles[t]) vf[v].push_back(face_of(t));
+      for (auto& f : vf) sort_unique(f);
+    }
+    PatchSamples& S = samples[p];
+    const auto& uv = param[p].uv;
+    for (Index v = 0; v < m.num_vertices(); ++v) {
+      S.uv.push_back(uv[v]);
+      S.points.push_back(projector.on_faces(vf[v], m.positions[v]));
+    }
+    std::vector<EdgeKey> seen;
+    for (Index t = 0; t < m.num_triangles(); ++t) {
+      const Tri& f = m.triangles[t];
+      const std::vector<Index> faces = has_faces ? std::vector<Index>{face_of(t)} : std::vector<Index>{};
+      S.uv.push_back((uv[f[0]] + uv[f[1]] + uv[f[2]]) / 3);
+      S.points.push_back(projector.on_faces(faces, (m.positions[f[0]] + m.positions[f[1]] + m.positions[f[2]]) / 3));
+      for (int k = 0; k < 3; ++k) seen.push_back(edge_key(f[k], f[(k + 1) % 3]));
+    }
+    std::sort(seen.begin(), seen.end());
+    seen.erase(std::unique(seen.begin(), seen.end()), seen.end());
+    // Edge midpoints: faces of either end (a midpoint lies in one of the two
+    // triangles along the edge, whose faces are among the ends').
+    for (const EdgeKey& e : seen) {
+      std::vector<Index> faces;
+      if (has_faces) {
+        faces = vf[e[0]];
+        faces.insert(faces.end(), vf[e[1]].begin(), vf[e[1]].end());
+        sort_unique(faces);
+      }
+      S.uv.push_back((uv[e[0]] + uv[e[1]]) / 2);
+      S.points.push_back(projector.on_faces(faces, (m.positions[e[0]] + m.positions[e[1]]) / 2));
+    }
+  }
+
+  std::vector<EdgeSamples> edge_samples(nE);
+  for (Index e = 0; e < nE; ++e) {
+    const NetworkEdge& E = network.edges[e];
+    // Faces along the polyline, from every patch side on this edge.
+    std::vector<std::vector<Index>> point_faces;
+    if (projector.exact()) {
+      point_faces.assign(E.points.size(), {});
+      for (const SideUse& u : uses[e]) {
+        const auto& verts = param[u.patch].side_vertices[u.side];
+        const size_t n = verts.size();
+        for (size_t k = 0; k < n; ++k) {
+          // Side k runs counter-clockwise in the patch; the edge from v0.
+          const size_t i = u.reversed ? n - 1 - k : k;
+          const auto& f = vertex_faces[u.patch][verts[k]];
+          point_faces[i].insert(point_faces[i].end(), f.begin(), f.end());
+        }
+      }
+      for (auto& f : point_faces) sort_unique(f);
+    }
+    std::vector<Vec3> polyline = E.points;
+    polyline.front() = network.vertices[E.v0];
+    polyline.back() = network.vertices[E.v1];
+    edge_samples[e] = sample_edge(polyline, point_faces, E.sharp, projector, std::max(1, options.edge_density));
+  }
+  watch.lap("sample");
+
+  // --- 3. strips and adaptive refinement -----------------------------------
+  Strips strips(nE);
+  for (const NetworkPatch& P : network.patches) {
+    strips.unite(P.edges[0], P.edges[2]);
+    strips.unite(P.edges[1], P.edges[3]);
+  }
+  std::vector<Index> strip_of(nE);
+  for (Index e = 0; e < nE; ++e) strip_of[e] = strips.find(e);
+  std::vector<int> spans(nE, std::max(1, options.initial_spans));  // per strip root
+
+  result.edge_curves.assign(nE, {});
+  result.surfaces.assign(nP, {});
+  report.per_patch.assign(nP, {});
+  std::vector<double> edge_dev(nE, 0.0);
+  std::vector<bool> edge_dirty(nE, true), patch_dirty(nP, true);
+
+  auto set_boundary = [&](Index p) {
+    const NetworkPatch& P = network.patches[p];
+    BSplinePatch& B = result.surfaces[p];
+    B.nu = spans[strip_of[P.edges[0]]];
+    B.nv = spans[strip_of[P.edges[1]]];
+    B.control.assign(size_t(B.rows()) * B.cols(), Vec3::Zero());
+    for (int s = 0; s < 4; ++s) {
+      const BSplineCurve3& c = result.edge_curves[P.edges[s]];
+      const int N = side_size(B, s);
+      for (int k = 0; k < N; ++k) {
+        const auto ij = side_control(B, s, k, 0);
+        B.P(ij[0], ij[1]) = c.control[P.reversed[s] ? N - 1 - k : k];
+      }
+    }
+  };
+
+  auto fit_round = [&]() {
+    for (Index e = 0; e < nE; ++e)
+      if (edge_dirty[e]) {
+        const NetworkEdge& E = network.edges[e];
+        result.edge_curves[e] = fit_edge_curve(edge_samples[e], network.vertices[E.v0], network.vertices[E.v1],
+                                               spans[strip_of[e]], options.smoothing);
+        edge_dev[e] = edge_curve_deviation(result.edge_curves[e], edge_samples[e]);
+      }
+    std::vector<Index> which;
+    for (Index p = 0; p < nP; ++p)
+      if (patch_dirty[p]) set_boundary(p), which.push_back(p);
+    if (!which.empty()) fit_patch_interiors(result.surfaces, samples, which, {}, options.smoothing, 0);
+    for (Index p : which) measure(result.surfaces[p], samples[p], report.per_patch[p]);
+    std::fill(edge_dirty.begin(), edge_dirty.end(), false);
+    std::fill(patch_dirty.begin(), patch_dirty.end(), false);
+  };
+
+  // Raise the span count of the strips through everything above tolerance.
+  auto refine = [&]() {
+    std::vector<int> want(nE, 0);
+    auto ask = [&](Index e, double err) {
+      const Index r = strip_of[e];
+      const int n = spans[r];
+      if (n >= options.max_spans) return;
+      const double factor = std::pow(std::max(err / tol, 1.0), 0.25) * 1.15;
+      const int m = std::min(options.max_spans, std::max(n + 1, static_cast<int>(std::ceil(n * factor))));
+      want[r] = std::max(want[r], m);
+    };
+    for (Index e = 0; e < nE; ++e)
+      if (edge_dev[e] > tol) ask(e, edge_dev[e]);
+    for (Index p = 0; p < nP; ++p)
+      if (report.per_patch[p].max_deviation > tol)
+        for (int s = 0; s < 2; ++s) ask(network.patches[p].edges[s], report.per_patch[p].max_deviation);
+    bool changed = false;
+    for (Index r = 0; r < nE; ++r)
+      if (want[r] > spans[r]) spans[r] = want[r], changed = true;
+    if (!changed) return false;
+    for (Index e = 0; e < nE; ++e) edge_dirty[e] = spans[strip_of[e]] != result.edge_curves[e].spans;
+    for (Index p = 0; p < nP; ++p)
+      for (int s = 0; s < 4; ++s) patch_dirty[p] = patch_dirty[p] || edge_dirty[network.patches[p].edges[s]];
+    return true;
+  };
+
+  // Smooth seams (two patches, not sharp): the C1 coupling.
+  std::vector<Seam> seams;
+  std::vector<Index> seam_edge;
+  for (Index e = 0; e < nE; ++e) {
+    const NetworkEdge& E = network.edges[e];
+    if (uses[e].size() == 1 || E.boundary) {
+      ++report.boundary_edges;
+      continue;
+    }
+    if (uses[e].size() != 2) continue;
+    if (E.sharp) {
+      ++report.sharp_seams;
+      continue;
+    }
+    ++report.smooth_seams;
+    Seam s;
+    s.a = uses[e][0].patch, s.side_a = uses[e][0].side;
+    s.b = uses[e][1].patch, s.side_b = uses[e][1].side;
+    s.b_reversed = uses[e][0].reversed != uses[e][1].reversed;
+    if (s.a == s.b) continue;  // a patch glued to itself: leave it C0
+    seams.push_back(s);
+    seam_edge.push_back(e);
+  }
+
+  const int kMaxRounds = 40;
+  for (int outer = 0; outer < 3; ++outer) {
+    do {
+      fit_round();
+      ++report.rounds;
+    } while (report.rounds < kMaxRounds && refine());
+    if (seams.empty() || options.seam_weight <= 0) break;
+    // 4. One coupled fit for tangent continuity across smooth seams.
+    for (Seam& s : seams) s.alpha = seam_speed_ratio(result.surfaces, s);
+    const std::vector<BSplinePatch> uncoupled = result.surfaces;
+    const std::vector<PatchFitFigures> uncoupled_fig = report.per_patch;
+    fit_patch_interiors(result.surfaces, samples, {}, seams, options.smoothing, options.seam_weight);
+    for (Index p = 0; p < nP; ++p) measure(result.surfaces[p], samples[p], report.per_patch[p]);
+    // If the coupling pushed a patch over tolerance, refine and go again.
+    if (report.rounds < kMaxRounds && outer < 2 && refine()) continue;
+    // Refinement is exhausted: tolerance before tangent continuity.
+    for (Index p = 0; p < nP; ++p)
+      if (report.per_patch[p].max_deviation > tol && uncoupled_fig[p].max_deviation < report.per_patch[p].max_deviation) {
+        result.surfaces[p] = uncoupled[p];
+        report.per_patch[p] = uncoupled_fig[p];
+        ++report.uncoupled_patches;
+      }
+    break;
+  }
+  watch.lap("fit");
+
+  // --- 5. report ------------------------------------------------------------
+  double sum2 = 0;
+  Index count = 0;
+  for (const PatchFitFigures& f : report.per_patch) {
+    report.max_deviation = std::max(report.max_deviation, f.max_deviation);
+    sum2 += f.rms_deviation * f.rms_deviation * f.samples;
+    count += f.samples;
+  }
+  report.rms_deviation = count ? std::sqrt(sum2 / count) : 0;
+  for (double d : edge_dev) report.max_edge_deviation = std::max(report.max_edge_deviation, d);
+  report.tolerance_met = report.max_deviation <= tol && report.max_edge_deviation <= tol;
+
+  // Regular vertices: exactly 4 smooth seams meet there.
+  std::vector<Index> valence(nV, 0);
+  std::vector<bool> regular(nV, true);
+  for (Index e = 0; e < nE; ++e)
+    for (Index v : {network.edges[e].v0, network.edges[e].v1}) {
+      ++valence[v];
+      if (network.edges[e].sharp || network.edges[e].boundary || uses[e].size() != 2) regular[v] = false;
+    }
+  constexpr int kSeamSamples = 41;
+  for (Index e = 0; e < nE; ++e) {
+    if (uses[e].size() != 2) continue;
+    const SideUse &a = uses[e][0], &b = uses[e][1];
+    const BSplinePatch &A = result.surfaces[a.patch], &B = result.surfaces[b.patch];
+    for (int k = 0; k < kSeamSamples; ++k) {
+      const double t = double(k) / (kSeamSamples - 1);  // along the edge, from v0
+      const Vec2 ua = side_uv(a.side, a.reversed ? 1 - t : t);
+      const Vec2 ub = side_uv(b.side, b.reversed ? 1 - t : t);
+      report.max_seam_gap =
+          std::max(report.max_seam_gap, (A.value(ua.x(), ua.y()) - B.value(ub.x(), ub.y())).norm());
+      if (k == 0 || k == kSeamSamples - 1) continue;
+      const double angle = angle_deg(A.normal(ua.x(), ua.y()), B.normal(ub.x(), ub.y()));
+      if (network.edges[e].sharp || network.edges[e].boundary) {
+        report.max_sharp_angle_deg = std::max(report.max_sharp_angle_deg, angle);
+        continue;
+      }
+      report.max_seam_angle_deg_full = std::max(report.max_seam_angle_deg_full, angle);
+      if (t >= options.seam_from - 1e-12 && t <= options.seam_to + 1e-12)
+        report.max_seam_angle_deg = std::max(report.max_seam_angle_deg, angle);
+      const NetworkEdge& E = network.edges[e];
+      if (regular[E.v0] && valence[E.v0] == 4 && regular[E.v1] && valence[E.v1] == 4)
+        report.max_seam_angle_deg_regular = std::max(report.max_seam_angle_deg_regular, angle);
+    }
+  }
+  watch.lap("measure");
+
+  if (options.build_shell) {
+    ShellFigures fig;
+    result.shell = sew_patch_shell(result.surfaces, 1e-6 * diag, &fig);
+    report.faces = fig.faces, report.shells = fig.shells, report.free_edges = fig.free_edges;
+    report.valid_shell = fig.valid, report.closed = fig.closed;
+    report.volume = fig.volume, report.shell_tolerance = fig.max_tolerance;
+    watch.lap("shell");
+  }
+  report.time_s = std::chrono::duration<double>(Clock::now() - start).count();
+  return result;
+}
+
+Index write_step(const FitResult& result, const std::string& path) {
+  if (result.shell) return write_step(*result.shell, path);
+  BoundingBox box;
+  for (const BSplinePatch& p : result.surfaces)
+    for (const Vec3& c : p.control) box.add(c);
+  const auto shell = sew_patch_shell(result.surfaces, 1e-6 * std::max(box.diagonal(), 1e-9), nullptr);
+  return write_step(*shell, path);
+}
+
+}  // namespace stripweave

@@ -1,0 +1,107 @@
+// fit_patch_network: the surfacing stage. A primal quad layout
+// (PatchNetwork) becomes a watertight network of bicubic B-spline patches
+// fitted to the source, sewn into a shell (a solid when closed), with the
+// figures that say how good it is.
+//
+// Input   the Surface (its source B-rep, or its source mesh), the
+//         PatchNetwork (model units), FitOptions.
+// Output  FitResult: one BSplineCurve3 per network edge, one BSplinePatch
+//         per network patch, the sewn OCCT shell (opaque), and FitReport.
+// Method
+//   1. Harmonic map of each patch mesh onto [0,1]^2 (patch_parameterization.h).
+//   2. Samples on the exact source: each patch triangle's vertices, edge
+//      midpoints and centroid, projected onto its source_face; each edge's
+//      densified polyline projected onto the B-rep (edge_curves.h).
+//   3. Strips of the layout: opposite sides of a quad must have the same
+//      knot vector for neighbours to share control rows, so the span count
+//      is a property of a strip (the classes of edges joined by "opposite in
+//      a patch": exactly the layout's dual strips). Adaptive refinement: fit
+//      every edge curve with its strip's span count, every patch with its
+//      boundary rows fixed to the edge curves (patch_fit.h), measure the
+//      orthogonal deviation at the samples, and raise the span count of the
+//      strips through a patch or edge above tolerance by the cubic
+//      convergence estimate n' = n (err/tol)^(1/4), until all meet the
+//      tolerance or `max_spans`.
+//   4. Tangent continuity: one coupled fit of all patch interiors with C1
+//      penalties across the smooth (non-sharp, non-boundary) seams. Sharp
+//      seams stay C0. Watertightness never depends on this: the boundary rows
+//      are the edge curves' control points.
+//   5. Report: deviation at the samples (orthogonal distance source ->
+//      fitted patch), seam gaps (both patches' sides sampled against each
+//      other), normal-angle jumps across smooth seams over the middle of
+//      each seam ([seam_from, seam_to] of its parameter, since at irregular
+//      vertices G1 is impossible at the corner itself) and over the whole
+//      seam, then the shell (patch_shell.h).
+// Errors  InputError for an inconsistent network (a side whose mesh
+//         boundary does not carry its edge's polyline, an edge used by more
+//         than two patch sides, ...).
+#pragma once
+
+#include "stripweave/core/stopwatch.h"
+#include "stripweave/surface/surface.h"
+#include "stripweave/surfacing/bspline.h"
+#include "stripweave/surfacing/patch_network.h"
+
+#include <memory>
+#include <string>
+
+namespace stripweave {
+
+class PatchShell;
+
+struct FitOptions {
+  double tolerance = 0;              // model units; 0: relative_tolerance * network.bbox_diagonal
+  double relative_tolerance = 1e-3;
+  int initial_spans = 1;
+  int max_spans = 24;
+  double smoothing = 1e-9;           // thin-plate weight (against the mean squared data term)
+  double seam_weight = 100;          // C1 penalty across smooth seams (0: no coupling)
+  int edge_density = 4;              // edge polyline segments are split in this many samples
+  double edge_snap = 5e-3;           // sharp-edge snap distance, relative to the bbox diagonal
+  double seam_from = 0.2, seam_to = 0.8;  // where the seam angle is measured (edge parameter)
+  bool build_shell = true;
+};
+
+struct PatchFitFigures {
+  double max_deviation = 0, rms_deviation = 0;
+  int nu = 0, nv = 0;  // spans
+  Index samples = 0;
+};
+
+struct FitReport {
+  double tolerance = 0;               // model units, as used
+  double max_deviation = 0, rms_deviation = 0;
+  double max_edge_deviation = 0;      // edge curves to their projected samples
+  std::vector<PatchFitFigures> per_patch;
+  bool tolerance_met = false;
+  int rounds = 0;                     // refinement rounds
+  Index uncoupled_patches = 0;        // patches left without the seam coupling (tolerance first)
+  double max_seam_gap = 0;            // between neighbouring patches' shared sides
+  double max_seam_angle_deg = 0;      // smooth seams, over [seam_from, seam_to]
+  double max_seam_angle_deg_full = 0; // smooth seams, whole seam
+  double max_seam_angle_deg_regular = 0;  // smooth seams between two regular (valence-4) vertices, whole seam
+  double max_sharp_angle_deg = 0;     // largest normal jump over sharp seams (for reference)
+  Index smooth_seams = 0, sharp_seams = 0, boundary_edges = 0;
+  // The shell (patch_shell.h), when built.
+  Index faces = 0, shells = 0, free_edges = 0;
+  bool valid_shell = false, closed = false;
+  double volume = 0;
+  double shell_tolerance = 0;
+  StageTimings timings;  // ms per step
+  double time_s = 0;
+};
+
+struct FitResult {
+  std::vector<BSplineCurve3> edge_curves;  // per network edge, from v0 to v1
+  std::vector<BSplinePatch> surfaces;      // per network patch
+  FitReport report;
+  std::shared_ptr<const PatchShell> shell;  // null unless options.build_shell
+};
+
+FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network, const FitOptions& options = {});
+
+// STEP AP214 of the fitted shell (built now if the fit did not build it);
+// returns the face count read back from the file.
+Index write_step(const FitResult& result, const std::string& path);
+
+}  // namespace stripweave

@@ -1,0 +1,147 @@
+#include "stripweave/surfacing/patch_shell.h"
+
+#include "stripweave/core/error.h"
+
+#include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepBuilderAPI_MakeSolid.hxx>
+#include <BRepBuilderAPI_Sewing.hxx>
+#include <BRepCheck_Analyzer.hxx>
+#include <BRepGProp.hxx>
+#include <BRepTools.hxx>
+#include <BRep_Builder.hxx>
+#include <BRep_Tool.hxx>
+#include <GProp_GProps.hxx>
+#include <Geom_BSplineSurface.hxx>
+#include <IFSelect_ReturnStatus.hxx>
+#include <Interface_Static.hxx>
+#include <STEPControl_Controller.hxx>
+#include <STEPControl_Reader.hxx>
+#include <STEPControl_Writer.hxx>
+#include <ShapeFix_Solid.hxx>
+#include <Standard_Failure.hxx>
+#include <TColStd_Array1OfInteger.hxx>
+#include <TColStd_Array1OfReal.hxx>
+#include <TColgp_Array2OfPnt.hxx>
+#include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Compound.hxx>
+#include <TopoDS_Shell.hxx>
+#include <TopoDS_Solid.hxx>
+
+#include <sstream>
+
+namespace stripweave {
+
+class PatchShell {
+ public:
+  TopoDS_Shape shape;
+};
+
+namespace {
+
+// Knots and multiplicities of the clamped uniform cubic knot vector.
+void uniform_knots(int spans, TColStd_Array1OfReal& knots, TColStd_Array1OfInteger& mults) {
+  for (int k = 0; k <= spans; ++k) {
+    knots(k + 1) = double(k) / spans;
+    mults(k + 1) = (k == 0 || k == spans) ? kSplineDegree + 1 : 1;
+  }
+}
+
+Handle(Geom_BSplineSurface) to_occt(const BSplinePatch& p) {
+  TColgp_Array2OfPnt poles(1, p.rows(), 1, p.cols());
+  for (int i = 0; i < p.rows(); ++i)
+    for (int j = 0; j < p.cols(); ++j) {
+      const Vec3& c = p.P(i, j);
+      poles(i + 1, j + 1) = gp_Pnt(c.x(), c.y(), c.z());
+    }
+  TColStd_Array1OfReal uk(1, p.nu + 1), vk(1, p.nv + 1);
+  TColStd_Array1OfInteger um(1, p.nu + 1), vm(1, p.nv + 1);
+  uniform_knots(p.nu, uk, um);
+  uniform_knots(p.nv, vk, vm);
+  return new Geom_BSplineSurface(poles, uk, vk, um, vm, kSplineDegree, kSplineDegree);
+}
+
+Index count_faces(const TopoDS_Shape& s) {
+  TopTools_IndexedMapOfShape faces;
+  TopExp::MapShapes(s, TopAbs_FACE, faces);
+  return faces.Extent();
+}
+
+}  // namespace
+
+std::shared_ptr<const PatchShell> sew_patch_shell(const std::vector<BSplinePatch>& patches, double sew_tolerance,
+                                                  ShellFigures* figures) {
+  auto out = std::make_shared<PatchShell>();
+  ShellFigures fig;
+  try {
+    BRepBuilderAPI_Sewing sewing(sew_tolerance);
+    for (const BSplinePatch& p : patches) {
+      BRepBuilderAPI_MakeFace face(to_occt(p), Precision::Confusion());
+      if (!face.IsDone()) throw InputError("could not make a face of a fitted patch");
+      sewing.Add(face.Face());
+    }
+    sewing.Perform();
+    TopoDS_Shape sewn = sewing.SewedShape();
+    fig.free_edges = sewing.NbFreeEdges();
+
+    std::vector<TopoDS_Shell> shells;
+    for (TopExp_Explorer ex(sewn, TopAbs_SHELL); ex.More(); ex.Next()) shells.push_back(TopoDS::Shell(ex.Current()));
+    fig.shells = static_cast<Index>(shells.size());
+    fig.closed = shells.size() == 1 && fig.free_edges == 0;
+    if (fig.closed) {
+      BRepBuilderAPI_MakeSolid make(shells.front());
+      if (make.IsDone()) {
+        ShapeFix_Solid fix(make.Solid());
+        fix.Perform();
+        TopoDS_Shape solid = fix.Solid();
+        GProp_GProps props;
+        BRepGProp::VolumeProperties(solid, props);
+        if (props.Mass() < 0) {  // inside out: turn it
+          solid.Reverse();
+          BRepGProp::VolumeProperties(solid, props);
+        }
+        fig.volume = props.Mass();
+        sewn = solid;
+      }
+    }
+    out->shape = sewn;
+    fig.faces = count_faces(sewn);
+    fig.valid = BRepCheck_Analyzer(sewn).IsValid();
+    for (TopExp_Explorer ex(sewn, TopAbs_EDGE); ex.More(); ex.Next())
+      fig.max_tolerance = std::max(fig.max_tolerance, BRep_Tool::Tolerance(TopoDS::Edge(ex.Current())));
+    for (TopExp_Explorer ex(sewn, TopAbs_VERTEX); ex.More(); ex.Next())
+      fig.max_tolerance = std::max(fig.max_tolerance, BRep_Tool::Tolerance(TopoDS::Vertex(ex.Current())));
+  } catch (const Standard_Failure& e) {
+    throw InputError(std::string("sewing the fitted patches failed: ") + e.GetMessageString());
+  }
+  if (figures) *figures = fig;
+  return out;
+}
+
+Index write_step(const PatchShell& shell, const std::string& path) {
+  try {
+    // The schema is read when the writer's model is made: set it first.
+    STEPControl_Controller::Init();
+    Interface_Static::SetCVal("write.step.schema", "AP214IS");
+    STEPControl_Writer writer;
+    if (writer.Transfer(shell.shape, STEPControl_AsIs) != IFSelect_RetDone)
+      throw InputError("could not translate the patch shell to STEP");
+    if (writer.Write(path.c_str()) != IFSelect_RetDone) throw InputError("cannot write STEP file '" + path + "'");
+    STEPControl_Reader reader;
+    if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) return 0;
+    reader.TransferRoots();
+    return count_faces(reader.OneShape());
+  } catch (const Standard_Failure& e) {
+    throw InputError(std::string("STEP export failed: ") + e.GetMessageString());
+  }
+}
+
+std::string to_brep_string(const PatchShell& shell) {
+  std::ostringstream out;
+  BRepTools::Write(shell.shape, out);
+  return out.str();
+}
+
+}  // namespace stripweave

@@ -1,0 +1,51 @@
+// SourceProjector: puts sample points of the layout back onto the exact
+// source the refit approximates.
+//
+// Input   the Surface (its source B-rep `brep`, else its full-resolution
+//         `source_mesh`, else nothing), the snap distance for sharp edges
+//         (model units).
+// Output  projected points, model units.
+// Method  The layout's polylines and patch meshes live on the solver mesh,
+//         a chordal approximation of the source. Each sample knows the
+//         B-rep faces it may lie on (the source_face of the patch triangles
+//         around it), so
+//           on_faces(F, p)  the nearest of the faces' surfaces to p
+//                           (BrepSource::project_to_face, untrimmed: a
+//                           sample near a face border stays on the smooth
+//                           continuation of its own face);
+//           on_sharp(F, p)  the nearest point of the B-rep edges bounding
+//                           the faces F when one is within the snap distance
+//                           (a sharp layout edge runs along a B-rep edge),
+//                           else on_faces;
+//         without a B-rep, the nearest point of the source mesh (CGAL AABB
+//         tree, SurfaceLocator) or p itself.
+// Not thread-safe (BrepSource caches per-face analysers).
+#pragma once
+
+#include "stripweave/surface/surface.h"
+
+#include <memory>
+
+namespace stripweave {
+
+class SurfaceLocator;
+
+class SourceProjector {
+ public:
+  SourceProjector(const Surface& surface, double edge_snap);
+  ~SourceProjector();
+
+  bool exact() const { return brep_ != nullptr; }
+  Vec3 on_faces(const std::vector<Index>& faces, const Vec3& p) const;
+  Vec3 on_sharp(const std::vector<Index>& faces, const Vec3& p) const;
+
+ private:
+  Vec3 fallback(const Vec3& p) const;
+  const BrepSource* brep_ = nullptr;
+  std::unique_ptr<SurfaceLocator> locator_;
+  double edge_snap_;
+  mutable std::vector<std::vector<Index>> face_edges_;  // per B-rep face, lazily
+  mutable std::vector<bool> face_edges_known_;
+};
+
+}  // namespace stripweave

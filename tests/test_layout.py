@@ -1,0 +1,256 @@
+"""Primalization (paper §7): the quad layout of a valid design, analytic checks in model units.
+
+Structure: one vertex per region, one edge per arc, one quad patch per crossing, so
+V - E + F is the Euler characteristic. Geometry: vertices at corners / boundary /
+singularities / centres, edges on creases and boundaries where their corridors hold them.
+"""
+import json
+import math
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+import FreeCAD  # noqa: F401  (before Part)
+import Part
+
+import stripweave as sw
+from models import box, sphere, torus
+from stripweave.design import Design
+from stripweave.layout import compute_layout
+from stripweave.loops import LoopSession
+from stripweave.strips import DesignSession
+from test_regions import grid_cube
+
+native = sw._native
+
+REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+CUBE_BELTS = [[(5, 5, 10, 1, 0, 0)], [(5, 3, 0, 0, 1, 0)], [(3, 0, 5, 1, 0, 0)]]
+MERIDIAN = [(13, 0, 0, 0, 0, 1)]
+OUTER_EQUATOR = [(0, 13, 0, 1, 0, 0)]
+GREAT_CIRCLES = [[(5, 0, 0, 0, 1, 0)], [(0, 5, 0, 0, 0, 1)], [(0, 0, 5, 1, 0, 0)]]
+SHEET_CORNERS = [(0, 0, 0), (10, 0, 0), (10, 10, 0), (0, 10, 0)]
+
+
+def check_layout(L):
+    """What every layout must satisfy: the structure of §7, closed patch cycles, Euler."""
+    s = L["summary"]
+    e = s["euler"]
+    assert (e["V"], e["E"], e["F"]) == (len(L["vertices"]), len(L["edges"]), len(L["patches"]))
+    assert e["V"] - e["E"] + e["F"] == e["chi"]
+    assert L["problems"] == []
+    assert len(L["vertices"]) == len(L["regions"])
+    assert len(L["patches"]) == L["crossings"]
+    ends = [0] * len(L["vertices"])
+    for edge in L["edges"]:
+        pts = np.asarray(edge["points"])
+        i, j = edge["vertices"]
+        assert np.allclose(pts[0], L["vertices"][i]["position"]) and np.allclose(pts[-1], L["vertices"][j]["position"])
+        ends[i] += 1
+        ends[j] += 1
+    assert ends == [v["valence"] for v in L["vertices"]]
+    for p in L["patches"]:
+        assert p["quad"] and len(p["edges"]) == 4
+        # Side k runs from corner k to corner k + 1.
+        for k in range(4):
+            i, j = L["edges"][p["edges"][k]]["vertices"]
+            a, b = (j, i) if p["reversed"][k] else (i, j)
+            assert a == p["corners"][k] and b == p["corners"][(k + 1) % 4]
+
+
+def on_cube_edge(p, size=10.0, tol=0.1):
+    """Distance-based: at least two coordinates on a face plane (0 or size)."""
+    return sum(min(abs(c), abs(c - size)) <= tol for c in p) >= 2
+
+
+@pytest.fixture(scope="module")
+def cube_layout():
+    ds = DesignSession(sw.from_shape(box(10), target_triangles=12000), Design(CUBE_BELTS))
+    return ds, compute_layout(ds)
+
+
+def test_cube_three_belts_give_six_patches_on_the_cube_faces(cube_layout):
+    ds, L = cube_layout
+    check_layout(L)
+    assert L["valid"]
+    assert [r["valence"] for r in L["regions"]] == [3] * 8
+    for r in L["regions"]:
+        assert r["total_curvature"] == pytest.approx(math.pi / 2, abs=1e-6)
+    assert (len(L["patches"]), len(L["edges"]), len(L["vertices"])) == (6, 12, 8)
+    # Vertices at the cube's corners, edges along its sharp edges (within 1% of the edge length).
+    corners = {tuple(round(c) for c in v["position"]) for v in L["vertices"]}
+    assert corners == {(x, y, z) for x in (0, 10) for y in (0, 10) for z in (0, 10)}
+    for v in L["vertices"]:
+        assert v["valence"] == 3 and v["placement"] == "corner"
+        assert np.allclose(v["position"], np.round(v["position"]), atol=1e-9)
+    for e in L["edges"]:
+        assert e["sharp"]
+        assert e["length"] == pytest.approx(10, rel=0.01)
+        for p in e["points"]:
+            assert on_cube_edge(p, tol=0.1)
+    for p in L["patches"]:
+        assert p["area"] == pytest.approx(100, rel=0.02)
+        assert p["corner_angles_deg"] == pytest.approx([90] * 4, abs=1.0)
+    assert L["summary"]["irregular_vertices"] == {"3": 8}
+    assert L["summary"]["corner_deviation_deg"]["max"] < 1.0
+
+
+def test_torus_meridian_and_equator_give_one_patch_at_one_vertex():
+    ds = DesignSession(sw.from_shape(torus(10, 3), target_triangles=16000), Design([MERIDIAN, OUTER_EQUATOR]))
+    L = compute_layout(ds)
+    check_layout(L)
+    assert L["valid"]
+    (region,) = L["regions"]
+    assert region["disc"] and region["valence"] == 4
+    assert (len(L["patches"]), len(L["edges"]), len(L["vertices"])) == (1, 2, 1)
+    (v,) = L["vertices"]
+    assert v["valence"] == 4 and not v["boundary"]
+    # The single vertex is all four corners of the single patch, which covers the torus.
+    (p,) = L["patches"]
+    assert p["corners"] == [0, 0, 0, 0]
+    assert p["area"] == pytest.approx(4 * math.pi ** 2 * 10 * 3, rel=0.01)
+    # Each primal edge is a closed curve around the torus crossing its loop once.
+    for e in L["edges"]:
+        pts = np.asarray(e["points"])
+        assert np.allclose(pts[0], pts[-1])
+        assert e["length"] > 2 * math.pi * 3 * 0.95
+
+
+def test_torus_meridian_alone_has_no_layout():
+    ds = DesignSession(sw.from_shape(torus(10, 3), target_triangles=16000), Design([MERIDIAN]))
+    L = compute_layout(ds)
+    assert not L["valid"]
+    assert [r["colour"] for r in L["regions"]] == ["red"]
+    assert L["vertices"] == [] and L["edges"] == [] and L["patches"] == []
+
+
+def test_sphere_three_great_circles_give_six_patches_and_eight_valence_three_vertices():
+    ds = DesignSession(sw.from_shape(sphere(5), target_triangles=12000), Design(GREAT_CIRCLES))
+    L = compute_layout(ds)
+    check_layout(L)
+    assert len(L["patches"]) == 6 and len(L["vertices"]) == 8
+    assert [v["valence"] for v in L["vertices"]] == [3] * 8
+    assert L["summary"]["irregular_vertices"] == {"3": 8}
+    # Each vertex lies on the sphere, inside its octant.
+    for v in L["vertices"]:
+        p = np.asarray(v["position"])
+        assert np.linalg.norm(p) == pytest.approx(5, rel=0.01)
+        assert np.all(np.abs(p) > 1.0)
+    assert sum(p["area"] for p in L["patches"]) == pytest.approx(4 * math.pi * 25, rel=0.01)
+
+
+@pytest.fixture(scope="module")
+def square_session():
+    return LoopSession(sw.from_shape(Part.makePlane(10, 10), target_triangles=8000))
+
+
+def sheet_layout(session, anchors):
+    loops = [session.native.loops([list(a)], 1, True)[0] for a in anchors]
+    L = native.layout(session.native, loops)
+    check_layout(L)
+    return L
+
+
+def test_square_sheet_one_curve_each_way_gives_one_patch_at_the_corners(square_session):
+    L = sheet_layout(square_session, [(5, 3, 0, 1, 0, 0), (3, 5, 0, 0, 1, 0)])
+    assert L["valid"] and len(L["patches"]) == 1
+    assert sorted(tuple(np.round(v["position"], 6)) for v in L["vertices"]) == sorted(SHEET_CORNERS)
+    for v in L["vertices"]:
+        assert v["boundary"] and v["placement"] == "corner" and v["valence"] == 2
+    # The edges follow the boundary between its corners.
+    for e in L["edges"]:
+        assert e["boundary"]
+        assert e["length"] == pytest.approx(10, rel=1e-6)
+    (p,) = L["patches"]
+    assert p["area"] == pytest.approx(100, rel=1e-6)
+    assert p["corner_angles_deg"] == pytest.approx([90] * 4, abs=1e-6)
+
+
+def test_square_sheet_two_curves_each_way_give_four_patches(square_session):
+    anchors = [(5, 3, 0, 1, 0, 0), (5, 7, 0, 1, 0, 0), (3, 5, 0, 0, 1, 0), (7, 5, 0, 0, 1, 0)]
+    L = sheet_layout(square_session, anchors)
+    assert L["valid"] and len(L["patches"]) == 4 and len(L["vertices"]) == 9 and len(L["edges"]) == 12
+    boundary = [v for v in L["vertices"] if v["boundary"]]
+    inner = [v for v in L["vertices"] if not v["boundary"]]
+    assert len(boundary) == 8 and len(inner) == 1
+    # The inner vertex is the centre of the middle region; the corner regions' vertices are the corners.
+    assert inner[0]["valence"] == 4
+    assert np.allclose(inner[0]["position"], (5, 5, 0), atol=0.5)
+    corners = [v for v in boundary if v["placement"] == "corner"]
+    assert sorted(tuple(np.round(v["position"], 6)) for v in corners) == sorted(SHEET_CORNERS)
+    assert sum(p["area"] for p in L["patches"]) == pytest.approx(100, rel=1e-6)
+    for p in L["patches"]:
+        assert p["area"] == pytest.approx(25, rel=0.1)
+
+
+def test_layout_of_loops_through_mesh_vertices():
+    """Near-degenerate input: on a structured cube the belts run along mesh edges and cross
+    at mesh vertices; the layout is still the cube's."""
+    session = LoopSession(sw.from_mesh(*grid_cube(10), target_triangles=0))
+    loops = [session.native.loops([list(a)], 1, True)[0] for (a,) in CUBE_BELTS]
+    L = native.layout(session.native, loops)
+    check_layout(L)
+    assert (len(L["patches"]), len(L["edges"]), len(L["vertices"])) == (6, 12, 8)
+    for p in L["patches"]:
+        assert p["area"] == pytest.approx(100, rel=1e-9)
+
+
+def test_layout_with_crossings_near_a_vertex(square_session):
+    """Two curves crossing a hair away from a mesh vertex still give one clean patch."""
+    sheet = square_session.surface
+    v = sheet.vertices[np.argmin(np.linalg.norm(sheet.vertices - (5, 5, 0), axis=1))]
+    L = sheet_layout(square_session, [(v[0] + 1e-7, v[1], 0, 1, 0, 0), (v[0], v[1] + 1e-7, 0, 0, 1, 0)])
+    assert L["valid"] and len(L["patches"]) == 1
+    assert L["patches"][0]["area"] == pytest.approx(100, rel=1e-6)
+
+
+def test_patch_network_hands_over_discs_with_four_corners(cube_layout):
+    ds, L = cube_layout
+    net = ds.native.patch_network()
+    assert len(net["patches"]) == 6 and len(net["edges"]) == 12
+    assert net["bbox_diagonal"] == pytest.approx(10 * math.sqrt(3), rel=1e-9)
+    for p in net["patches"]:
+        V, T = p["vertices"], p["triangles"]
+        # A disc: V - E + F = 1.
+        edges = {tuple(sorted(e)) for t in T.tolist() for e in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0]))}
+        assert len(V) - len(edges) + len(T) == 1
+        for k in range(4):
+            e = net["edges"][p["edges"][k]]
+            start = e["points"][-1] if p["reversed"][k] else e["points"][0]
+            assert np.allclose(V[p["corners"][k]], start)
+        assert len(p["source_face"]) == len(T)
+
+
+def test_layout_cli_writes_layout_json(tmp_path):
+    step = tmp_path / "cube.brep"
+    box(10).exportBrep(str(step))
+    design = tmp_path / "cube.json"
+    Design(CUBE_BELTS).save(str(design))
+    out = tmp_path / "out"
+    run = subprocess.run([os.path.join(REPO, "build", "stripweave"), "layout", str(step), "--design", str(design),
+                          "--out", str(out), "--target-triangles", "12000", "--json"],
+                         capture_output=True, text=True, timeout=600)
+    assert run.returncode == 0, run.stderr
+    summary = json.loads(run.stdout)
+    assert summary["valid"] and summary["summary"]["patches"] == 6
+    L = json.loads((out / "layout.json").read_text())
+    assert L["valid"] and len(L["patches"]) == 6 and len(L["vertices"]) == 8 and len(L["edges"]) == 12
+    for key in ("valence", "disc", "colour", "total_curvature"):
+        assert all(key in r for r in L["regions"])
+    for v in L["vertices"]:
+        assert set(("position", "valence", "boundary")) <= set(v)
+    for e in L["edges"]:
+        assert len(e["points"][0]) == 3 and len(e["vertices"]) == 2
+    for p in L["patches"]:
+        assert len(p["edges"]) == 4 and p["area"] == pytest.approx(100, rel=0.02)
+
+
+def test_layout_cli_names_a_missing_design(tmp_path):
+    step = tmp_path / "cube.brep"
+    box(10).exportBrep(str(step))
+    run = subprocess.run([os.path.join(REPO, "build", "stripweave"), "layout", str(step), "--design",
+                          str(tmp_path / "nope.json"), "--out", str(tmp_path)], capture_output=True, text=True,
+                         timeout=600)
+    assert run.returncode != 0
+    assert "nope.json" in run.stderr
