@@ -153,6 +153,15 @@ def test_step_export_says_when_it_is_missing(cube, tmp_path):
         sw.weave(cube, out=str(tmp_path), step=True, max_strips=1)
 
 
+def test_step_export_fits_the_woven_layout(cube, tmp_path):
+    if not hasattr(native, "refit"):
+        pytest.skip("this build has no surfacing stage")
+    report = sw.weave(cube, out=str(tmp_path), step=True)
+    assert os.path.getsize(report["paths"]["step"]) > 0
+    assert set(report["fit"]) == {"max_deviation", "rms_deviation", "max_seam_gap", "max_seam_angle_deg"}
+    assert json.load(open(tmp_path / "report.json"))["fit"] == report["fit"]
+
+
 def test_cli_writes_every_file(tmp_path):
     model = tmp_path / "cube.brep"
     box(10).exportBrep(str(model))

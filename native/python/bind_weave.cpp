@@ -12,7 +12,9 @@
 //     regions   [{"valence", "disc", "colour", "total_curvature",
 //                 "ideal_valence", "area", "singularities" (count),
 //                 "seeds": [[x,y,z], ...], "clearance": [...]}]
-//               seeds by layout/weave_seeds.h (the first is the centre)
+//               seeds by layout/weave_seeds.h (the first is the centre);
+//               "crossing_anchors": [[x,y,z,dx,dy,dz], ...] across the arcs
+//               that have the region on both sides (weave_seeds.h)
 //     valid, crossings, arcs, colours {"red","orange","yellow","none"}
 //     uncovered {"found", "area", "largest_area", "surface_area", "point",
 //                "clearance"}: what no strip covers (the design's strips only)
@@ -63,6 +65,7 @@ void bind_weave(py::module_& m) {
         LoopArrangement arrangement;
         Regions regions;
         std::vector<std::vector<SeedPoint>> seeds;
+        std::vector<std::vector<CrossingAnchor>> crossing;
         UncoveredArea uncovered;
         double ms = 0;
         {
@@ -81,6 +84,7 @@ void bind_weave(py::module_& m) {
           seeds.resize(regions.regions.size());
           if (seeds_per_region > 0) {
             seeds = region_seed_points(arrangement, regions, seeds_per_region);
+            crossing = crossing_anchors(arrangement, regions);
             uncovered = largest_uncovered_area(s, covered);
           }
           ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -94,6 +98,7 @@ void bind_weave(py::module_& m) {
           x["valence"] = g.valence;
           x["disc"] = g.disc;
           x["euler_characteristic"] = g.euler_characteristic;
+          x["genus"] = g.genus;
           x["colour"] = colour_name(g.colour);
           x["total_curvature"] = g.total_curvature;
           x["ideal_valence"] = ideal_valence(g.total_curvature);
@@ -105,6 +110,14 @@ void bind_weave(py::module_& m) {
             clear.append(model_length(s, p.clearance));
           }
           x["seeds"] = pts;
+          py::list cross;
+          if (r < crossing.size())
+            for (const CrossingAnchor& c : crossing[r]) {
+              std::vector<double> anchor = model_point(s, c.point);
+              anchor.insert(anchor.end(), {c.direction.x(), c.direction.y(), c.direction.z()});
+              cross.append(anchor);
+            }
+          x["crossing_anchors"] = cross;
           x["clearance"] = clear;
           list.append(x);
           const char* c = colour_name(g.colour);

@@ -14,8 +14,12 @@ needed. Automatic weaving plays the user: it picks seed points in the order
 asks for the best compatible loop there (several seed points per region: its centre,
 then farthest-point samples; ranked alternatives when those fail), scores each proposal
 by the assessment it would give, adds the best one, and rejects an addition that makes
-the assessment worse. It stops when nothing is coloured and the uncovered area is small,
-when the patch target is reached, or at the strip limit.
+the assessment worse. When nothing is coloured and the uncovered area is small, a refine
+phase goes past the paper's colours: it splits the patch with the worst corner (a strip
+across its longest side) while the real layout's mean corner deviation drops. It stops at
+the deviation or patch target, the time limit (which never stops work on red regions), or
+the strip limit. Loop queries that run too long are cancelled (then, and only then, the
+result can depend on the machine's speed).
 
 A strip is added as one directional anchor (a g' node of the proposed loop: point and
 tangent), so that re-deriving the design (DesignState) finds the same loop quickly and
@@ -27,7 +31,7 @@ import os
 import sys
 import threading
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from ._native import native
 
@@ -76,10 +80,14 @@ def score(a):
     first validity (red regions, weighted by how far from a disc they are), then the
     regions the paper flags for quality (orange: extra singularities, yellow: valence
     mismatch), then the coarseness (fewer regions)."""
-    red = sum(max(1, abs(1 - r["euler_characteristic"])) for r in a["regions"] if r["colour"] == "red")
+    red = [r for r in a["regions"] if r["colour"] == "red"]
+    # A handle is cut by a non-separating loop (genus - 1, two more boundaries: chi unchanged),
+    # then holes are joined by cuts between them (chi + 1): both count as progress.
+    genus = sum(r["genus"] for r in red)
+    badness = sum(max(1, abs(1 - r["euler_characteristic"])) for r in red)
     orange = sum(max(0, r["singularities"] - 1) for r in a["regions"] if r["colour"] == "orange")
     yellow = sum(abs(r["valence"] - r["ideal_valence"]) for r in a["regions"] if r["colour"] == "yellow")
-    return (red, orange + 0.5 * yellow)
+    return (genus, badness, orange + 0.5 * yellow)
 
 
 def seeds_in_order(a, options, skip):
@@ -92,12 +100,25 @@ def seeds_in_order(a, options, skip):
             points = [p for p in r["seeds"] if _key(p) not in skip]
             if points:
                 k = options.seed % len(points)
-                out.append((f"{colour} region", i, colour, points[k:] + points[:k]))
+                points = points[k:] + points[:k]
+            if colour == "red":
+                # After the centre: across each loop that leaves the region on both sides (the
+                # cut that completes a handle's meridian), then the other seed points.
+                crossing = [c for c in r.get("crossing_anchors", []) if _key(c) not in skip]
+                points = points[:1] + crossing + points[1:]
+            if points:
+                out.append((f"{colour} region", i, colour, points))
     u = a["uncovered"]
     # No crossing yet means no patch at all (a disc cut by nothing is "valid"): keep weaving.
     wanted = u["largest_area"] > options.uncovered * u["surface_area"] or a["crossings"] == 0
     if u["found"] and wanted and _key(u["point"]) not in skip:
         out.append(("uncovered area", -1, "uncovered", [u["point"]]))
+    if a["crossings"] == 0 and a["colours"]["red"] == 0:
+        # Valid but no patch yet (a sphere cut once, a disc): the largest regions' centres.
+        for i, r in sorted(enumerate(a["regions"]), key=lambda x: (-x[1]["area"], x[0])):
+            points = [p for p in r["seeds"] if _key(p) not in skip]
+            if points:
+                out.append(("no patch yet", i, "uncovered", points))
     return out
 
 
@@ -126,7 +147,7 @@ class _Weaver:
         watchdog = threading.Timer(self.options.query_timeout_s, self.session.cancel)
         watchdog.start()
         try:
-            if alternatives <= 1:
+            if alternatives <= 1 and len(point) == 3:
                 return [self.session.best_loop(list(point), True)]
             return list(self.session.loops([list(point)], alternatives, True))
         except (native.InputError, native.Cancelled):
@@ -152,7 +173,7 @@ class _Weaver:
 
     def add(self, loop, point):
         """Add the loop as one directional anchor; None if the design rejects it."""
-        anchor = native.loop_anchor(self.session, loop, list(point))
+        anchor = native.loop_anchor(self.session, loop, list(point)[:3])
         if _DEBUG_DESIGN:   # the design about to be derived, for reproducing native failures
             d = self.ds.design.copy()
             d.add_strip([anchor])
@@ -195,7 +216,8 @@ def _refine(w, ds, options, a, result, elapsed):
             result.stopped = "patch target"
             break
         # Patches by their worst corner, then the middle of each one's longest side.
-        order = sorted(range(patches), key=lambda i: -max(abs(x - 90) for x in layout["patches"][i]["corner_angles_deg"]))
+        order = sorted(range(patches), key=lambda i: -max((abs(x - 90) for x in layout["patches"][i]["corner_angles_deg"]),
+                                                          default=0.0))
         seed = None
         for i in order:
             sides = sorted(layout["patches"][i]["edges"], key=lambda e: (-layout["edges"][e]["length"], e))
@@ -244,6 +266,7 @@ def auto_weave(ds, options=None):
     a = w.assess()
     skip = set()          # seed points that gave nothing useful
     stalls = 0            # consecutive red-phase additions that did not lower the score
+    escalated = False     # looked harder once already
     user_strips = len(ds.design.strips)
 
     def elapsed():
@@ -263,6 +286,16 @@ def auto_weave(ds, options=None):
         if valid and elapsed() > options.time_limit_s:
             result.stopped = "time limit"
             break
+        if not seeds and a["colours"]["red"] and not escalated:
+            # Invalid and out of ideas: look harder once (more seed points per region, more
+            # ranked alternatives), rather than end with no layout.
+            escalated = True
+            w.options = options = replace(options, seeds_per_region=3 * options.seeds_per_region,
+                                          alternatives=2 * options.alternatives)
+            skip.clear()
+            stalls = 0
+            a = w.assess()
+            continue
         if not seeds:
             result.stopped = "done" if valid and not a["colours"]["orange"] + a["colours"]["yellow"] else "no seed helps"
             break
@@ -271,33 +304,40 @@ def auto_weave(ds, options=None):
                       f"(red {a['colours']['red']}, orange {a['colours']['orange']}, "
                       f"yellow {a['colours']['yellow']}, {elapsed():.1f} s)")
         added = None
+        tried_real = False
         # Ranked alternatives (slow: a second search per rank) only where validity is at stake.
         for alternatives in ((1, options.alternatives) if colour == "red" else (1,)):
             tried = points if alternatives == 1 else points[:1]
             for s, cost, loop, point, predicted in w.candidates(tried, alternatives, current):
                 improves = s < current
-                if colour == "red" and not improves and s[0] <= current[0] and stalls < 2:
+                if colour == "red" and not improves and s[:2] <= current[:2] and stalls < 3:
                     improves = True   # a handle can take two loops to cut (a torus: meridian, then equator)
                 if colour == "uncovered":
                     improves = s <= current   # coverage, without spoiling the colours
-                    if not improves and a["crossings"] == 0 and s[0] <= current[0]:
+                    if not improves and a["crossings"] == 0 and s[:2] <= current[:2]:
                         improves = True       # no patch yet: any valid strip is progress
+                if not improves and colour in ("orange", "yellow") and s[:2] <= current[:2] and not tried_real:
+                    # The prediction keeps the old singularities, which the new strip moves:
+                    # give the best proposal one real try.
+                    improves = tried_real = True
+                if not improves and colour != "red" and a["crossings"] == 0 and s[:2] <= current[:2]:
+                    improves = True   # no patch yet: a valid strip that crosses is progress
                 if not improves:
                     break             # candidates are sorted: none after this one is better
                 index = w.add(loop, point)
                 if index is None:
                     continue
                 after = w.assess()
-                worse = score(after) > current and not (colour == "uncovered" and a["crossings"] == 0
-                                                        and score(after)[0] <= current[0])
+                worse = score(after) > current and not (a["crossings"] == 0 < after["crossings"]
+                                                        and score(after)[:2] <= current[:2])
                 no_gain = colour == "uncovered" and after["uncovered"]["area"] >= a["uncovered"]["area"] \
                     and after["crossings"] <= a["crossings"]
                 if worse or no_gain:
                     ds.remove_strip(index)   # the re-derived design is worse than predicted: reject
                     continue
-                stalls = stalls + 1 if score(after)[0] >= current[0] and colour == "red" else 0
+                stalls = stalls + 1 if score(after)[:2] >= current[:2] and colour == "red" else 0
                 added = {"strip": index, "reason": reason, "region": region, "colour": colour,
-                         "seed": [float(x) for x in point], "anchor": list(ds.design.strips[index].anchors[0].to_list()),
+                         "seed": [float(x) for x in point[:3]], "anchor": list(ds.design.strips[index].anchors[0].to_list()),
                          "cost": cost, "score_before": list(current), "score_after": list(score(after)),
                          "time_s": round(elapsed(), 3)}
                 a = after

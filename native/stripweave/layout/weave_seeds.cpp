@@ -111,6 +111,23 @@ std::vector<std::vector<SeedPoint>> region_seed_points(const LoopArrangement& A,
   return out;
 }
 
+std::vector<std::vector<CrossingAnchor>> crossing_anchors(const LoopArrangement& A, const Regions& G) {
+  std::vector<std::vector<CrossingAnchor>> out(G.regions.size());
+  for (size_t k = 0; k < A.arcs.size(); ++k) {
+    const LoopArc& arc = A.arcs[k];
+    const Index r = G.arc_left[k];
+    if (r == kInvalid || r != G.arc_right[k] || arc.vertices.size() < 2 || arc.left_triangle == kInvalid) continue;
+    const size_t m = arc.vertices.size() / 2;
+    const Vec3 a = A.mesh.positions[arc.vertices[m - (m > 0 ? 1 : 0)]];
+    const Vec3 b = A.mesh.positions[arc.vertices[std::min(m + 1, arc.vertices.size() - 1)]];
+    const Vec3 n = triangle_normal_area2(A.mesh, arc.left_triangle).normalized();
+    Vec3 across = n.cross(b - a);
+    if (across.norm() == 0) continue;
+    out[r].push_back({A.mesh.positions[arc.vertices[m]], across.normalized()});
+  }
+  return out;
+}
+
 UncoveredArea largest_uncovered_area(const Surface& surface,
                                      const std::vector<const std::vector<std::uint8_t>*>& covered) {
   const TriangleMesh& mesh = surface.mesh;

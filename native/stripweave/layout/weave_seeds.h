@@ -15,6 +15,13 @@
 //   The clearance (distance to the border, +inf without one) of each point
 //   comes with it.
 //
+// crossing_anchors(arrangement, regions) -> per region, directional anchors
+//   (point, direction; normalized units) at the middle of each arc that has
+//   the region on both sides, pointing across the arc. Such an arc's loop
+//   does not separate the region (a lone meridian on a handle), and the loop
+//   that crosses it there and comes back around is the cut that makes the
+//   region a disc: the dual of the handle's other generator.
+//
 // largest_uncovered_area(surface, covered) -> the largest edge-connected
 //   set of surface triangles that no strip covers (`covered`: per strip, per
 //   triangle 0/1), its area, the uncovered area in all, and its point
@@ -36,6 +43,13 @@ struct SeedPoint {
 
 std::vector<std::vector<SeedPoint>> region_seed_points(const LoopArrangement& arrangement, const Regions& regions,
                                                        int count);
+
+struct CrossingAnchor {
+  Vec3 point = Vec3::Zero();
+  Vec3 direction = Vec3::Zero();
+};
+
+std::vector<std::vector<CrossingAnchor>> crossing_anchors(const LoopArrangement& arrangement, const Regions& regions);
 
 struct UncoveredArea {
   double area = 0;        // of the largest uncovered component (normalized units squared)
