@@ -23,6 +23,11 @@
 //   The directional anchor (a g' node: its tail vertex and tangent) of the
 //   loop nearest to `point`: re-searching the design from it is fast and
 //   deterministic, where two positional anchors are slow.
+// principal_anchors(surface, point) -> [[x,y,z,dx,dy,dz], [..]]
+//   Directional anchors at the surface vertex nearest to `point` along its
+//   minimum and maximum principal directions (§5.5: the directions good loops
+//   follow). A one-direction query is much faster than the all-directions
+//   hover query: the fallback when that one runs too long.
 #include "bind.h"
 
 #include "stripweave/core/error.h"
@@ -161,6 +166,28 @@ void bind_weave(py::module_& m) {
       },
       py::arg("session"), py::arg("loop"), py::arg("point"),
       "The loop's directional anchor nearest to a point (model units)");
+
+  m.def("principal_anchors", [](const Surface& s, const std::vector<double>& point) {
+        if (point.size() < 3) throw InputError("principal_anchors needs a point (x, y, z)");
+        const Vec3 p = s.similarity.to_normalized(Vec3(point[0], point[1], point[2]));
+        Index best = 0;
+        double best_d = std::numeric_limits<double>::infinity();
+        for (Index v = 0; v < s.mesh.num_vertices(); ++v) {
+          const double d = (s.mesh.positions[v] - p).squaredNorm();
+          if (d < best_d) best_d = d, best = v;
+        }
+        const Vec3 q = s.similarity.to_model(s.mesh.positions[best]);
+        std::vector<std::vector<double>> out;
+        for (const auto* dirs : {&s.d_min, &s.d_max}) {
+          if (static_cast<Index>(dirs->size()) <= best) continue;
+          const Vec3 d = (*dirs)[best];
+          if (!(d.norm() > 0)) continue;
+          out.push_back({q.x(), q.y(), q.z(), d.x(), d.y(), d.z()});
+        }
+        return out;
+      },
+      py::arg("surface"), py::arg("point"),
+      "Directional anchors along the principal directions at the vertex nearest to a point (model units)");
 }
 
 }  // namespace stripweave_python

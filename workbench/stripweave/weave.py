@@ -140,6 +140,17 @@ class _Weaver:
         return native.weave_assessment(self.ds.native, list(extra), self.options.seeds_per_region if seeds else 0)
 
     def proposals(self, point, alternatives):
+        """Loops through the point, best first; when the all-directions query gives nothing in
+        time, the best loops along the two principal directions there (one-direction queries
+        are fast)."""
+        found = self._proposals(point, alternatives)
+        if not found and len(point) == 3:
+            for anchor in native.principal_anchors(self.ds.surface, list(point)):
+                found += self._proposals(anchor, 1)
+            found.sort(key=lambda loop: loop.cost)
+        return found
+
+    def _proposals(self, point, alternatives):
         """Loops through the point compatible with every strip (§6.2), best first. A query
         that runs past the timeout is cancelled: some points (a cusp, a narrow neck under
         many strips) admit no good loop, and waiting for it would stall the whole weave."""
@@ -328,8 +339,8 @@ def auto_weave(ds, options=None):
                 if index is None:
                     continue
                 after = w.assess()
-                worse = score(after) > current and not (a["crossings"] == 0 < after["crossings"]
-                                                        and score(after)[:2] <= current[:2])
+                # While there is no patch, only validity counts (the colours come with patches).
+                worse = score(after) > current and not (a["crossings"] == 0 and score(after)[:2] <= current[:2])
                 no_gain = colour == "uncovered" and after["uncovered"]["area"] >= a["uncovered"]["area"] \
                     and after["crossings"] <= a["crossings"]
                 if worse or no_gain:
