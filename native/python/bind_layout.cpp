@@ -7,7 +7,7 @@
 //   Everything regions() gives, and the primal quad layout
 //   (layout/quad_layout.h) in model units:
 //     vertices   [{"position", "valence", "boundary", "region",
-//                  "placement" (corner|boundary|singularity|centre)}]
+//                  "placement" (corner|boundary|feature|singularity|centre)}]
 //     edges      [{"points" (n,3), "vertices": [i, j], "arc", "loop",
 //                  "sharp", "boundary", "length"}]
 //     patches    [{"edges": [4], "reversed": [4], "corners": [4 vertices],
@@ -53,6 +53,7 @@ const char* placement_name(VertexPlacement p) {
   switch (p) {
     case VertexPlacement::Corner: return "corner";
     case VertexPlacement::Boundary: return "boundary";
+    case VertexPlacement::Feature: return "feature";
     case VertexPlacement::Singularity: return "singularity";
     case VertexPlacement::Centre: return "centre";
   }

@@ -11,7 +11,7 @@
 //                           "corners": [4 ints], "source_face": (m,) (optional)}]}
 //   tolerance: model units (None: 1e-3 of the model's bbox diagonal).
 //   Keyword options (FitOptions): relative_tolerance, initial_spans,
-//   max_spans, smoothing, seam_weight, edge_density, edge_snap, seam_from,
+//   max_spans, smoothing, seam_weight, edge_density, edge_smoothing, parameter_corrections, edge_snap, seam_from,
 //   seam_to.
 //   Returns (lengths in model units):
 //     max_deviation, rms_deviation, per_patch [{max_deviation,
@@ -124,6 +124,8 @@ FitOptions options_from(const py::kwargs& kw) {
     else if (key == "seam_weight") o.seam_weight = py::cast<double>(v);
     else if (key == "edge_density") o.edge_density = py::cast<int>(v);
     else if (key == "edge_snap") o.edge_snap = py::cast<double>(v);
+    else if (key == "edge_smoothing") o.edge_smoothing = py::cast<double>(v);
+    else if (key == "parameter_corrections") o.parameter_corrections = py::cast<int>(v);
     else if (key == "seam_from") o.seam_from = py::cast<double>(v);
     else if (key == "seam_to") o.seam_to = py::cast<double>(v);
     else throw InputError("refit: unknown option '" + key + "'");

@@ -14,7 +14,10 @@
 //     vertices  primal_vertices.cpp: in order of preference a corner of the
 //               region (a boundary corner, or where three or more sharp
 //               feature curves meet), a point on the open boundary if the
-//               region touches it, the region's single cross-field
+//               region touches it, a point on a sharp feature curve
+//               running through the region (the farthest from the loops,
+//               unless nearer to them than a quarter of the region's
+//               inradius), the region's single cross-field
 //               singularity (unless it is closer to the loops than half the
 //               region's inradius), else its geodesic centre (the point
 //               farthest from the loops).
@@ -43,7 +46,7 @@
 
 namespace stripweave {
 
-enum class VertexPlacement : std::uint8_t { Corner, Boundary, Singularity, Centre };
+enum class VertexPlacement : std::uint8_t { Corner, Boundary, Feature, Singularity, Centre };
 
 struct PrimalVertex {
   Index region = kInvalid;

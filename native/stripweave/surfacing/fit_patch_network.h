@@ -27,7 +27,11 @@
 //      seams stay C0. Watertightness never depends on this: the boundary rows
 //      are the edge curves' control points.
 //   5. Report: deviation at the samples (orthogonal distance source ->
-//      fitted patch), seam gaps (both patches' sides sampled against each
+//      fitted network: the sample's own patch, or, where its foot point
+//      falls on the patch border, the nearest of the patches sharing a
+//      vertex with it; a layout edge zig-zags over the mesh while its
+//      edge curve runs smooth, so a patch-mesh sample by the border may lie
+//      on the neighbour's side of the seam), seam gaps (both patches' sides sampled against each
 //      other), normal-angle jumps across smooth seams over the middle of
 //      each seam ([seam_from, seam_to] of its parameter, since at irregular
 //      vertices G1 is impossible at the corner itself) and over the whole
@@ -57,6 +61,8 @@ struct FitOptions {
   double smoothing = 1e-9;           // thin-plate weight (against the mean squared data term)
   double seam_weight = 100;          // C1 penalty across smooth seams (0: no coupling)
   int edge_density = 4;              // edge polyline segments are split in this many samples
+  int parameter_corrections = 0;     // foot-point re-parameterizations of the samples per patch fit
+  double edge_smoothing = 3.0;       // smooth edges: Gaussian sigma in polyline segments (0: none), edge_curves.h
   double edge_snap = 5e-3;           // sharp-edge snap distance, relative to the bbox diagonal
   double seam_from = 0.2, seam_to = 0.8;  // where the seam angle is measured (edge parameter)
   bool build_shell = true;
