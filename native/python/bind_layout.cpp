@@ -112,7 +112,7 @@ py::dict layout_dict(const Surface& s, const std::vector<Singularity>& singular,
   py::list edges;
   for (const PrimalEdge& e : L.edges) {
     std::vector<Vec3> pts;
-    for (Index v : e.path) pts.push_back(sim.to_model(A.mesh.positions[v]));
+    for (Index v : e.path) pts.push_back(sim.to_model(L.positions[v]));
     py::dict d;
     d["points"] = points_array(pts);
     d["vertices"] = std::vector<Index>{e.v0, e.v1};
