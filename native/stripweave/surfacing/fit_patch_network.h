@@ -80,7 +80,8 @@ struct FitOptions {
   int seam_mode = 1;                 // 1: C1 coupling, 0: tangent planes (G1 by the averaged normal)
   int tangent_rounds = 2;            // seam_mode 0: rounds of tangent-plane targets
   int edge_density = 4;              // edge polyline segments are split in this many samples
-  int parameter_corrections = 0;     // foot-point re-parameterizations of the samples per patch fit
+  int parameter_corrections = 0;     // foot-point re-parameterizations per patch fit (experimental: the border
+                                     // samples it drops leave the first inner rows free, which can fold)
   double edge_smoothing = 3.0;       // smooth edges: Gaussian sigma in polyline segments (0: none), edge_curves.h
   double edge_snap = 5e-3;           // sharp-edge snap distance, relative to the bbox diagonal
   double seam_from = 0.2, seam_to = 0.8;  // where the seam angle is measured (edge parameter)
