@@ -217,13 +217,7 @@ void bind_layout(py::module_& m, py::class_<DesignState, std::shared_ptr<DesignS
         DesignLayout dl;
         {
           py::gil_scoped_release release;
-          std::vector<LoopPath> paths;
-          for (const Loop& loop : loops) {
-            LoopPath lp;
-            lp.path = session.embed(loop);
-            lp.closed = loop.closed;
-            paths.push_back(std::move(lp));
-          }
+          std::vector<LoopPath> paths = embed_loops(session, loops);
           dl.computed = compute(s, paths, singular);
           const auto t0 = Clock::now();
           dl.layout = build_quad_layout(s, dl.computed.arrangement, dl.computed.regions, singular);

@@ -65,17 +65,8 @@ void cut_primal_patches(const PrimalContext& ctx, QuadLayout& L) {
   const Wedges& W = L.patch_wedges;
 
   // Pieces: triangles joined across uncut edges.
-  std::vector<Index> parent(nt);
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](Index x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
-  for (Index e = 0; e < ne; ++e) {
-    if (is_cut(e)) continue;
-    const Index a = find(rt.edge_triangles[e][0]), b = find(rt.edge_triangles[e][1]);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
+  std::vector<Index> piece;
+  cut_pieces(rt, nt, is_cut, piece);
   // A piece is a patch through the crossing it holds.
   std::map<Index, Index> piece_patch;
   for (size_t k = 0; k < A.nodes.size(); ++k) {
@@ -83,12 +74,12 @@ void cut_primal_patches(const PrimalContext& ctx, QuadLayout& L) {
     if (!node.crossing()) continue;
     const Index v = node.vertex;
     if (rt.vertex_triangles.size(v) == 0) continue;
-    const Index piece = find(*rt.vertex_triangles.begin(v));
-    if (piece_patch.count(piece)) {
+    const Index at = piece[*rt.vertex_triangles.begin(v)];
+    if (piece_patch.count(at)) {
       L.problems.push_back("a patch holds more than one crossing (crossing at refined vertex " + std::to_string(v) + ")");
       continue;
     }
-    piece_patch[piece] = static_cast<Index>(L.patches.size());
+    piece_patch[at] = static_cast<Index>(L.patches.size());
     PrimalPatch patch;
     patch.node = static_cast<Index>(k);
     L.patches.push_back(patch);
@@ -96,7 +87,7 @@ void cut_primal_patches(const PrimalContext& ctx, QuadLayout& L) {
   L.triangle_patch.assign(nt, kInvalid);
   Index orphans = 0;
   for (Index t = 0; t < nt; ++t) {
-    const auto it = piece_patch.find(find(t));
+    const auto it = piece_patch.find(piece[t]);
     if (it == piece_patch.end()) {
       ++orphans;
       continue;
