@@ -245,3 +245,34 @@ def test_cli_bad_design_file_is_one_line(tmp_path):
     r = run_cli("strips", model, "--design", bad, "--out", tmp_path / "o")
     assert r.returncode == 1
     assert r.stderr.count("\n") == 1 and "strip 1" in r.stderr
+
+
+def test_a_strip_contradicting_the_design_is_refused_and_the_rest_stays_derived():
+    """Regression: a strip whose loop meets an earlier one running the same way cannot be
+    parameterized; the design must keep the strips before it fully derived (reading them
+    once crashed), name the strip, and go on taking strips."""
+    from stripweave.bench import random_surface_points
+    surface = sw.load(os.path.join(REPO, "examples", "handle.step"), target_triangles=8000)
+    ds = DesignSession(surface)
+    refused = None
+    for p in random_surface_points(surface, 40, seed=2):
+        try:
+            ds.add_strip([tuple(p)])
+        except sw.InputError as exc:
+            if "transversally" in str(exc):
+                refused = str(exc)
+                break
+    assert refused is not None and refused.startswith("strip ")
+    assert ds.native.strip_count == len(ds.design.strips)
+    for i in range(ds.native.strip_count):
+        s = ds.strip(i)
+        assert s["area_fraction"] > 0 and len(s["triangles"]) > 0
+    # The design still works: it takes another strip where one fits.
+    before = len(ds.design.strips)
+    for p in random_surface_points(surface, 20, seed=9):
+        try:
+            ds.add_strip([tuple(p)])
+            break
+        except sw.InputError:
+            pass
+    assert len(ds.design.strips) == before + 1

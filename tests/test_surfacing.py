@@ -195,10 +195,11 @@ def test_hundred_patches_regular_seams():
     assert r["faces"] == 96 and r["closed"] and r["valid_shell"]
     assert r["tolerance_met"]
     assert r["max_seam_gap"] < 1e-6 * 2 * R * math.sqrt(3)
-    # Near-G1: at the default tolerance every patch here is a single bicubic
-    # span, too few controls for the C1 rows to absorb the varying speed
-    # ratio along a seam (measured 1.7 deg); see the README's weak points.
-    assert r["max_seam_angle_deg_regular"] < 2.0
-    assert r["max_seam_angle_deg"] < 3.0
+    # G1 within 1 deg at the regular seams: at the default tolerance every
+    # patch here is a single bicubic span, too few controls for the C1 rows
+    # to absorb the varying speed ratio along a seam (1.7 deg), so the fits
+    # without the seam condition, which meet better (0.7 deg), are kept.
+    assert r["max_seam_angle_deg_regular"] < 1.0
+    assert r["max_seam_angle_deg"] < 1.0
     assert r["volume"] == pytest.approx(4 / 3 * math.pi * R ** 3, rel=5e-3)
     assert r["time_s"] < 10.0

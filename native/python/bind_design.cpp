@@ -42,8 +42,7 @@ py::dict strip_dict(const Surface& s, const DesignStrip& d) {
   // transitions (a check of exact alignment, model units).
   double across = 0;
   for (const PathSegment& seg : d.path.segments) {
-    // A strip whose extraction found nothing has no per-triangle data at all.
-    if (static_cast<size_t>(seg.triangle) >= d.strip.covered.size() || !d.strip.covered[seg.triangle]) continue;
+    if (d.strip.covered.empty() || !d.strip.covered[seg.triangle]) continue;
     for (Index point : {seg.from, seg.to}) {
       const Vec3 b = barycentric_in(s, d.path.path, point, seg.triangle);
       const auto& c = d.strip.coords[seg.triangle];

@@ -7,7 +7,7 @@
 //   Everything regions() gives, and the primal quad layout
 //   (layout/quad_layout.h) in model units:
 //     vertices   [{"position", "valence", "boundary", "region",
-//                  "placement" (corner|boundary|singularity|centre)}]
+//                  "placement" (corner|boundary|feature|singularity|centre)}]
 //     edges      [{"points" (n,3), "vertices": [i, j], "arc", "loop",
 //                  "sharp", "boundary", "length"}]
 //     patches    [{"edges": [4], "reversed": [4], "corners": [4 vertices],
@@ -53,6 +53,7 @@ const char* placement_name(VertexPlacement p) {
   switch (p) {
     case VertexPlacement::Corner: return "corner";
     case VertexPlacement::Boundary: return "boundary";
+    case VertexPlacement::Feature: return "feature";
     case VertexPlacement::Singularity: return "singularity";
     case VertexPlacement::Centre: return "centre";
   }
@@ -111,7 +112,7 @@ py::dict layout_dict(const Surface& s, const std::vector<Singularity>& singular,
   py::list edges;
   for (const PrimalEdge& e : L.edges) {
     std::vector<Vec3> pts;
-    for (Index v : e.path) pts.push_back(sim.to_model(A.mesh.positions[v]));
+    for (Index v : e.path) pts.push_back(sim.to_model(L.positions[v]));
     py::dict d;
     d["points"] = points_array(pts);
     d["vertices"] = std::vector<Index>{e.v0, e.v1};
@@ -216,13 +217,7 @@ void bind_layout(py::module_& m, py::class_<DesignState, std::shared_ptr<DesignS
         DesignLayout dl;
         {
           py::gil_scoped_release release;
-          std::vector<LoopPath> paths;
-          for (const Loop& loop : loops) {
-            LoopPath lp;
-            lp.path = session.embed(loop);
-            lp.closed = loop.closed;
-            paths.push_back(std::move(lp));
-          }
+          std::vector<LoopPath> paths = embed_loops(session, loops);
           dl.computed = compute(s, paths, singular);
           const auto t0 = Clock::now();
           dl.layout = build_quad_layout(s, dl.computed.arrangement, dl.computed.regions, singular);

@@ -176,6 +176,17 @@ std::vector<Singularity> singularities_from(const Surface& s, const std::vector<
   return out;
 }
 
+std::vector<LoopPath> embed_loops(const LoopSession& session, const std::vector<Loop>& loops) {
+  std::vector<LoopPath> paths;
+  for (const Loop& loop : loops) {
+    LoopPath lp;
+    lp.path = session.embed(loop);
+    lp.closed = loop.closed;
+    paths.push_back(std::move(lp));
+  }
+  return paths;
+}
+
 Computed compute(const Surface& s, std::vector<LoopPath>& paths, const std::vector<Singularity>& singular) {
   Computed c;
   const auto t0 = Clock::now();
@@ -201,13 +212,7 @@ void bind_regions(py::module_& m) {
         {
           py::gil_scoped_release release;
           const auto t0 = Clock::now();
-          std::vector<LoopPath> paths;
-          for (const Loop& loop : loops) {
-            LoopPath lp;
-            lp.path = session.embed(loop);
-            lp.closed = loop.closed;
-            paths.push_back(std::move(lp));
-          }
+          std::vector<LoopPath> paths = embed_loops(session, loops);
           const double embed_ms = millis(t0, Clock::now());
           c = compute(s, paths, singular);
           c.embed_ms += embed_ms;

@@ -22,6 +22,10 @@ struct Computed {
   double embed_ms = 0, arrangement_ms = 0, regions_ms = 0;
 };
 
+// The session's loops embedded on its surface (call without the GIL).
+std::vector<stripweave::LoopPath> embed_loops(const stripweave::LoopSession& session,
+                                              const std::vector<stripweave::Loop>& loops);
+
 // Segments, arrangement and regions of embedded loops (call without the GIL).
 Computed compute(const stripweave::Surface& s, std::vector<stripweave::LoopPath>& paths,
                  const std::vector<stripweave::Singularity>& singular);

@@ -11,7 +11,7 @@
 //                           "corners": [4 ints], "source_face": (m,) (optional)}]}
 //   tolerance: model units (None: 1e-3 of the model's bbox diagonal).
 //   Keyword options (FitOptions): relative_tolerance, initial_spans,
-//   max_spans, smoothing, seam_weight, edge_density, edge_snap, seam_from,
+//   max_spans, smoothing, seam_weight, seam_mode ('tangent' | 'c1'), tangent_rounds, edge_density, edge_smoothing, parameter_corrections, edge_snap, seam_from,
 //   seam_to.
 //   Returns (lengths in model units):
 //     max_deviation, rms_deviation, per_patch [{max_deviation,
@@ -122,8 +122,16 @@ FitOptions options_from(const py::kwargs& kw) {
     else if (key == "max_spans") o.max_spans = py::cast<int>(v);
     else if (key == "smoothing") o.smoothing = py::cast<double>(v);
     else if (key == "seam_weight") o.seam_weight = py::cast<double>(v);
+    else if (key == "seam_mode") {
+      const std::string m = py::cast<std::string>(v);
+      if (m == "tangent") o.seam_mode = 0;
+      else if (m == "c1") o.seam_mode = 1;
+      else throw InputError("refit: seam_mode is 'tangent' or 'c1'");
+    } else if (key == "tangent_rounds") o.tangent_rounds = py::cast<int>(v);
     else if (key == "edge_density") o.edge_density = py::cast<int>(v);
     else if (key == "edge_snap") o.edge_snap = py::cast<double>(v);
+    else if (key == "edge_smoothing") o.edge_smoothing = py::cast<double>(v);
+    else if (key == "parameter_corrections") o.parameter_corrections = py::cast<int>(v);
     else if (key == "seam_from") o.seam_from = py::cast<double>(v);
     else if (key == "seam_to") o.seam_to = py::cast<double>(v);
     else throw InputError("refit: unknown option '" + key + "'");

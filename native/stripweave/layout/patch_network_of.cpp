@@ -13,7 +13,7 @@ PatchNetwork patch_network_of(const Surface& s, const LoopArrangement& A, const 
   for (const PrimalVertex& v : L.vertices) net.vertices.push_back(sim.to_model(v.position));
   for (const PrimalEdge& e : L.edges) {
     NetworkEdge ne;
-    for (Index v : e.path) ne.points.push_back(sim.to_model(A.mesh.positions[v]));
+    for (Index v : e.path) ne.points.push_back(sim.to_model(L.positions[v]));
     ne.v0 = e.v0, ne.v1 = e.v1;
     ne.sharp = e.sharp, ne.boundary = e.boundary;
     net.edges.push_back(std::move(ne));
@@ -26,7 +26,7 @@ PatchNetwork patch_network_of(const Surface& s, const LoopArrangement& A, const 
     std::unordered_map<Index, Index> local;  // patch wedge -> patch-mesh vertex
     auto vertex_of = [&](Index wedge) {
       const auto [it, fresh] = local.emplace(wedge, np.mesh.num_vertices());
-      if (fresh) np.mesh.positions.push_back(sim.to_model(A.mesh.positions[L.patch_wedges.vertex[wedge]]));
+      if (fresh) np.mesh.positions.push_back(sim.to_model(L.positions[L.patch_wedges.vertex[wedge]]));
       return it->second;
     };
     for (Index t : p.triangles) {

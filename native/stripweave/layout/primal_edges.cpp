@@ -105,31 +105,47 @@ std::vector<PrimalEdge> route_primal_edges(const PrimalContext& ctx, const std::
     cheapness[k] = length > 0 ? best / length : 1.0;
   }
 
-  // Route the arcs one by one, cheapest per unit length first (those that
-  // follow a crease or the boundary claim it), each path blocking its inner
-  // vertices for the later ones: mesh-edge paths can only cross or overlap
-  // at a shared vertex, so the primal edges end up disjoint but for their
-  // end vertices. Each route is a shortest path from the left vertex to the
-  // right one over the two regions' wedges in two layers, the only way from
-  // layer 0 to layer 1 being across this arc (once, also when both sides
-  // are one region, as on a torus).
+  // Untangle. The guesses of one region lie in one shortest-path tree, so
+  // they never cross, but two of them may share a first stretch, and an
+  // edge may run along a loop or the boundary where its neighbour across
+  // runs too. Mesh-edge paths can only meet at a shared vertex, so: going
+  // through the arcs from the least cheap per unit length (edges across
+  // open surface) to the cheapest (edges on creases and the boundary, which
+  // keep their route), an edge whose inner vertices another edge also uses
+  // is routed again with every other edge's inner vertices blocked. The
+  // re-route is a shortest path from the left vertex to the right one over
+  // the two regions' wedges in two layers, the only way from layer 0 to
+  // layer 1 being across this arc (once, also when both sides are one
+  // region, as on a torus). If no route is left, the guess stays, and the
+  // overlap is reported.
   std::vector<Index> order(na);
   for (Index k = 0; k < na; ++k) order[k] = k;
-  std::stable_sort(order.begin(), order.end(), [&](Index a, Index b) { return cheapness[a] < cheapness[b]; });
-  std::vector<std::uint8_t> used(m.num_vertices(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](Index a, Index b) { return cheapness[a] > cheapness[b]; });
+  std::vector<Index> use(m.num_vertices(), 0);  // inner vertices of the current routes
+  std::vector<std::vector<Index>> routed = guess;
+  std::vector<Index> routed_crossing = guess_crossing;
+  auto count = [&](const std::vector<Index>& path, Index delta) {
+    for (size_t i = 1; i + 1 < path.size(); ++i) use[path[i]] += delta;
+  };
+  for (Index k = 0; k < na; ++k) count(routed[k], +1);
   const Index nw = ctx.wedges.count();
   std::vector<double> d2(2 * static_cast<size_t>(nw), inf);
   std::vector<Index> p2(2 * static_cast<size_t>(nw), kInvalid);
   std::vector<Index> touched;
-  std::vector<std::vector<Index>> routed(na);
-  std::vector<Index> routed_crossing(na, 0);
   for (Index k : order) {
     if (guess[k].empty()) continue;
+    bool shared = false;
+    for (size_t i = 1; i + 1 < routed[k].size() && !shared; ++i) shared = use[routed[k][i]] > 1;
+    // Its end vertices may not be passed through by others either.
+    for (Index v : {routed[k].front(), routed[k].back()}) shared |= use[v] > 0;
+    if (!shared) continue;
+    count(routed[k], -1);
+    auto used = [&](Index v) { return use[v] > 0; };
     const LoopArc& arc = A.arcs[k];
     const Index L = ctx.regions.arc_left[k], R = ctx.regions.arc_right[k];
     std::vector<std::pair<Index, Index>> links;  // (from wedge in layer 0, to wedge in layer 1)
     for (size_t i = 0; i < arc.vertices.size(); ++i) {
-      if (ctx.vertex_crossing[arc.vertices[i]] || used[arc.vertices[i]]) continue;
+      if (ctx.vertex_crossing[arc.vertices[i]] || used(arc.vertices[i])) continue;
       const auto [wl, wr] = sides(arc, i);
       if (wl == kInvalid || wr == kInvalid) continue;
       links.push_back({wl, wr});
@@ -154,13 +170,13 @@ std::vector<PrimalEdge> route_primal_edges(const PrimalContext& ctx, const std::
       if (d > d2[x]) continue;
       if (x == target) break;
       const Index layer = x >= nw, w = x - layer * nw;
-      if (x != source && used[ctx.wedges.vertex[w]]) continue;  // reached, but not passed through
+      if (x != source && used(ctx.wedges.vertex[w])) continue;  // reached, but not passed through
       for (Index j = ctx.wedge_neighbours.offsets[w]; j < ctx.wedge_neighbours.offsets[w + 1]; ++j) {
         const Index y = ctx.wedge_neighbours.indices[j];
         const Index r = ctx.wedge_region[y];
         if ((r != L && r != R) || blocked(y)) continue;
         const Index yv = ctx.wedges.vertex[y];
-        if (used[yv] && y + layer * nw != target) continue;
+        if (used(yv) && y + layer * nw != target) continue;
         relax(x, y + layer * nw, d + cost(ctx.wedge_neighbour_edge.indices[j]));
       }
       if (layer == 0) {
@@ -170,9 +186,8 @@ std::vector<PrimalEdge> route_primal_edges(const PrimalContext& ctx, const std::
     }
     if (d2[target] == inf) {
       problems.push_back("arc " + std::to_string(k) + " (loop " + std::to_string(arc.loop) +
-                         "): the primal edges routed before it leave no free corridor; it overlaps them");
-      routed[k] = guess[k];
-      routed_crossing[k] = guess_crossing[k];
+                         "): the other primal edges leave no free corridor; its edge overlaps them");
+      count(routed[k], +1);
       continue;
     }
     std::vector<Index> path;
@@ -188,9 +203,9 @@ std::vector<PrimalEdge> route_primal_edges(const PrimalContext& ctx, const std::
     }
     std::reverse(path.begin(), path.end());
     crossing_at = static_cast<Index>(path.size()) - 1 - crossing_at;
-    for (size_t i = 1; i + 1 < path.size(); ++i) used[path[i]] = 1;
     routed[k] = std::move(path);
     routed_crossing[k] = crossing_at;
+    count(routed[k], +1);
   }
 
   std::vector<PrimalEdge> edges;

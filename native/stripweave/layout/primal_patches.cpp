@@ -8,8 +8,8 @@
 // (the piece on the left), maximal runs along one primal edge in one
 // direction are its sides, and the primal vertex where a run starts is a
 // corner. Corner angles are measured between the sides' chords to a point a
-// fifth of the shorter side away, which sees past the zig-zag of a mesh-edge
-// path.
+// fifth of the shorter side away (which sees past what zig-zag is left of
+// a mesh-edge path), projected into the patch's tangent plane there.
 #include "stripweave/layout/primalization.h"
 
 #include <algorithm>
@@ -22,9 +22,9 @@ namespace stripweave {
 namespace {
 
 // The point at arc length `s` along the polyline of refined vertices.
-Vec3 point_along(const TriangleMesh& m, const std::vector<Index>& path, bool backwards, double s) {
+Vec3 point_along(const std::vector<Vec3>& positions, const std::vector<Index>& path, bool backwards, double s) {
   const size_t n = path.size();
-  auto at = [&](size_t i) { return m.positions[path[backwards ? n - 1 - i : i]]; };
+  auto at = [&](size_t i) { return positions[path[backwards ? n - 1 - i : i]]; };
   for (size_t i = 0; i + 1 < n; ++i) {
     const double len = (at(i + 1) - at(i)).norm();
     if (s <= len && len > 0) return at(i) + (s / len) * (at(i + 1) - at(i));
@@ -65,17 +65,8 @@ void cut_primal_patches(const PrimalContext& ctx, QuadLayout& L) {
   const Wedges& W = L.patch_wedges;
 
   // Pieces: triangles joined across uncut edges.
-  std::vector<Index> parent(nt);
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](Index x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
-  for (Index e = 0; e < ne; ++e) {
-    if (is_cut(e)) continue;
-    const Index a = find(rt.edge_triangles[e][0]), b = find(rt.edge_triangles[e][1]);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
+  std::vector<Index> piece;
+  cut_pieces(rt, nt, is_cut, piece);
   // A piece is a patch through the crossing it holds.
   std::map<Index, Index> piece_patch;
   for (size_t k = 0; k < A.nodes.size(); ++k) {
@@ -83,12 +74,12 @@ void cut_primal_patches(const PrimalContext& ctx, QuadLayout& L) {
     if (!node.crossing()) continue;
     const Index v = node.vertex;
     if (rt.vertex_triangles.size(v) == 0) continue;
-    const Index piece = find(*rt.vertex_triangles.begin(v));
-    if (piece_patch.count(piece)) {
+    const Index at = piece[*rt.vertex_triangles.begin(v)];
+    if (piece_patch.count(at)) {
       L.problems.push_back("a patch holds more than one crossing (crossing at refined vertex " + std::to_string(v) + ")");
       continue;
     }
-    piece_patch[piece] = static_cast<Index>(L.patches.size());
+    piece_patch[at] = static_cast<Index>(L.patches.size());
     PrimalPatch patch;
     patch.node = static_cast<Index>(k);
     L.patches.push_back(patch);
@@ -96,7 +87,7 @@ void cut_primal_patches(const PrimalContext& ctx, QuadLayout& L) {
   L.triangle_patch.assign(nt, kInvalid);
   Index orphans = 0;
   for (Index t = 0; t < nt; ++t) {
-    const auto it = piece_patch.find(find(t));
+    const auto it = piece_patch.find(piece[t]);
     if (it == piece_patch.end()) {
       ++orphans;
       continue;
@@ -104,7 +95,9 @@ void cut_primal_patches(const PrimalContext& ctx, QuadLayout& L) {
     L.triangle_patch[t] = it->second;
     PrimalPatch& patch = L.patches[it->second];
     patch.triangles.push_back(t);
-    patch.area += 0.5 * triangle_normal_area2(m, t).norm();
+    const Tri& f = m.triangles[t];
+    const std::vector<Vec3>& P = L.positions;
+    patch.area += 0.5 * (P[f[1]] - P[f[0]]).cross(P[f[2]] - P[f[0]]).norm();
   }
   if (orphans > 0)
     L.problems.push_back(std::to_string(orphans) + " refined triangles lie in no patch (a piece without a crossing)");
@@ -180,14 +173,32 @@ void cut_primal_patches(const PrimalContext& ctx, QuadLayout& L) {
     }
     patch.quad = quad;
     if (!quad) continue;
+    // The patch's own normal at each corner (its triangles there), for the
+    // tangent plane the angle is measured in: the chords of curved sides
+    // leave it, and at a crease the other patches' normals do not apply.
+    std::array<Vec3, 4> normal;
+    normal.fill(Vec3::Zero());
+    for (Index t : patch.triangles) {
+      const Tri& f = m.triangles[t];
+      const std::vector<Vec3>& P = L.positions;
+      const Vec3 n = (P[f[1]] - P[f[0]]).cross(P[f[2]] - P[f[0]]);
+      for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 4; ++k)
+          if (W.of(t, i) == patch.corner_wedges[k]) normal[k] += n;
+    }
     for (int k = 0; k < 4; ++k) {
       const PrimalEdge& out = L.edges[patch.edges[k]];
       const PrimalEdge& in = L.edges[patch.edges[(k + 3) % 4]];
       const double reach = 0.2 * std::min(out.length, in.length);
-      const Vec3 corner = m.positions[L.vertices[patch.corners[k]].refined_vertex];
+      const Vec3 corner = L.positions[L.vertices[patch.corners[k]].refined_vertex];
       // The outgoing side from its start; the incoming side from its end.
-      const Vec3 a = point_along(m, out.path, patch.reversed[k], reach) - corner;
-      const Vec3 b = point_along(m, in.path, !patch.reversed[(k + 3) % 4], reach) - corner;
+      Vec3 a = point_along(L.positions, out.path, patch.reversed[k], reach) - corner;
+      Vec3 b = point_along(L.positions, in.path, !patch.reversed[(k + 3) % 4], reach) - corner;
+      if (normal[k].norm() > 0) {
+        const Vec3 n = normal[k].normalized();
+        a -= a.dot(n) * n;
+        b -= b.dot(n) * n;
+      }
       patch.corner_angle[k] = std::atan2(a.cross(b).norm(), a.dot(b));
     }
   }

@@ -3,8 +3,13 @@
 // junction of creases) is where a CAD engineer expects a patch corner, and
 // a patch corner anywhere else on it would leave a crease or a boundary
 // kink inside a patch. A region touching the open boundary must put its
-// vertex there so that the boundary is covered by primal edges. Otherwise
-// the region's one singularity is the irregular vertex the field asks for
+// vertex there so that the boundary is covered by primal edges. A region
+// that a sharp feature curve runs through puts its vertex on the crease
+// (the point of it farthest from the loops), so that the primal edges can
+// follow the crease to the neighbouring regions' vertices: a vertex off the
+// crease leaves the crease inside its patches (a capped cylinder's "box"
+// design would get cap-and-side patches folded over the rim, which no
+// B-spline patch fits). Otherwise the region's one singularity is the irregular vertex the field asks for
 // (a region of valence != 4 holds at least one), unless it lies closer to
 // the loops than half the region's inradius; failing that the point
 // farthest from the loops keeps the vertex well inside its corridor.
@@ -71,9 +76,15 @@ std::vector<PrimalVertex> place_primal_vertices(const PrimalContext& ctx, const 
       on_loops, [&](Index e) { return ctx.edge_length[e]; }, [](Index) { return false; }, nullptr);
 
   // Candidates per region, each rule keeping its best wedge.
-  enum { kCorner, kBoundary, kSingularity, kCentre, kRules };
-  std::vector<std::array<Index, kRules>> best(nr, {kInvalid, kInvalid, kInvalid, kInvalid});
-  std::vector<std::array<double, kRules>> score(nr, {-1.0, -1.0, -1.0, -1.0});
+  // The rules in the order of VertexPlacement.
+  enum { kCorner, kBoundary, kFeature, kSingularity, kCentre, kRules };
+  std::vector<std::array<Index, kRules>> best(nr, {kInvalid, kInvalid, kInvalid, kInvalid, kInvalid});
+  std::vector<std::array<double, kRules>> score(nr, {-1.0, -1.0, -1.0, -1.0, -1.0});
+  // Refined vertices on a sharp feature curve.
+  std::vector<std::uint8_t> on_feature(A.mesh.num_vertices(), 0);
+  for (Index e = 0; e < A.topology.num_edges(); ++e)
+    if (ctx.edge_feature[e])
+      for (Index v : A.topology.edges[e]) on_feature[v] = 1;
   auto offer = [&](Index rule, Index w, double value) {
     const Index r = ctx.wedge_region[w];
     if (value > score[r][rule]) score[r][rule] = value, best[r][rule] = w;
@@ -85,8 +96,14 @@ std::vector<PrimalVertex> place_primal_vertices(const PrimalContext& ctx, const 
     const Index sv = A.original_vertex[v];
     if (sv != kInvalid && sv < surface_vertices && strength[sv] > 0) offer(kCorner, w, strength[sv]);
     if (ctx.vertex_on_boundary[v]) offer(kBoundary, w, clearance[w]);
+    if (on_feature[v]) offer(kFeature, w, clearance[w]);
     offer(kCentre, w, clearance[w]);
   }
+  // A crease that only clips the region near its loops (less than a quarter
+  // of the region's inradius from them) would squeeze the vertex's patches:
+  // it does not take the vertex.
+  for (Index r = 0; r < nr; ++r)
+    if (best[r][kFeature] != kInvalid && score[r][kFeature] < 0.25 * score[r][kCentre]) best[r][kFeature] = kInvalid;
   for (Index r = 0; r < nr; ++r) {
     const Region& region = ctx.regions.regions[r];
     if (region.singularities.size() != 1) continue;

@@ -10,10 +10,14 @@
 // place_primal_vertices  one vertex per region (rules in quad_layout.h);
 //                        fills vertex_wedge (per region, the wedge it is at)
 // route_primal_edges     one edge per arc (quad_layout.h)
+// straighten_primal_edges  relax the edges' zig-zag on the surface; fills
+//                        QuadLayout::positions
 // cut_primal_patches     patches, triangle_patch, patch_wedges
 #pragma once
 
 #include "stripweave/layout/quad_layout.h"
+
+#include <limits>
 
 namespace stripweave {
 
@@ -45,6 +49,8 @@ std::vector<PrimalVertex> place_primal_vertices(const PrimalContext& ctx, const 
 
 std::vector<PrimalEdge> route_primal_edges(const PrimalContext& ctx, const std::vector<Index>& vertex_wedge,
                                            std::vector<std::string>& problems);
+
+void straighten_primal_edges(const PrimalContext& ctx, QuadLayout& layout);
 
 void cut_primal_patches(const PrimalContext& ctx, QuadLayout& layout);
 

@@ -122,6 +122,7 @@ QuadLayout build_quad_layout(const Surface& s, const LoopArrangement& A, const R
     ++layout.vertices[e.v0].valence;
     ++layout.vertices[e.v1].valence;
   }
+  straighten_primal_edges(ctx, layout);
   cut_primal_patches(ctx, layout);
   return layout;
 }

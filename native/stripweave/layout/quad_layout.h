@@ -14,7 +14,10 @@
 //     vertices  primal_vertices.cpp: in order of preference a corner of the
 //               region (a boundary corner, or where three or more sharp
 //               feature curves meet), a point on the open boundary if the
-//               region touches it, the region's single cross-field
+//               region touches it, a point on a sharp feature curve
+//               running through the region (the farthest from the loops,
+//               unless nearer to them than a quarter of the region's
+//               inradius), the region's single cross-field
 //               singularity (unless it is closer to the loops than half the
 //               region's inradius), else its geodesic centre (the point
 //               farthest from the loops).
@@ -25,7 +28,9 @@
 //               feature and open-boundary edges made cheap so that a primal
 //               edge whose corridor holds a crease or the boundary follows
 //               it. The edge crosses its arc once, where the two trees'
-//               distances sum to the least.
+//               distances sum to the least. Edges that would share vertices
+//               are re-routed apart; then the zig-zag of the mesh-edge paths
+//               is relaxed on the surface (primal_straightening.cpp).
 //     patches   primal_patches.cpp: the refined mesh cut along the primal
 //               edges; each piece holds one crossing, and its boundary is
 //               read as four sides (edge runs) between four corners.
@@ -43,7 +48,7 @@
 
 namespace stripweave {
 
-enum class VertexPlacement : std::uint8_t { Corner, Boundary, Singularity, Centre };
+enum class VertexPlacement : std::uint8_t { Corner, Boundary, Feature, Singularity, Centre };
 
 struct PrimalVertex {
   Index region = kInvalid;
@@ -81,6 +86,7 @@ struct QuadLayout {
   std::vector<PrimalVertex> vertices;
   std::vector<PrimalEdge> edges;
   std::vector<PrimalPatch> patches;
+  std::vector<Vec3> positions;        // per refined vertex, after straightening the edges (normalized)
   std::vector<Index> triangle_patch;  // per refined triangle, kInvalid outside every patch
   Wedges patch_wedges;                // the refined mesh cut open along the primal edges
   std::vector<std::string> problems;

@@ -1,6 +1,8 @@
 // The regions of a loop arrangement and their assessment (see the header).
 #include "stripweave/layout/regions.h"
 
+#include "stripweave/layout/cut_wedges.h"
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -46,26 +48,8 @@ Regions compute_regions(const Surface& s, const LoopArrangement& A, const std::v
   const Index surface_vertices = s.mesh.num_vertices();
 
   // Components across edges that separate nothing.
-  std::vector<Index> parent(nt);
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](Index x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
-  for (Index e = 0; e < ne; ++e) {
-    if (A.separates(e)) continue;
-    const Index a = find(rt.edge_triangles[e][0]), b = find(rt.edge_triangles[e][1]);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
-  out.triangle_region.assign(nt, kInvalid);
-  for (Index t = 0; t < nt; ++t) {
-    const Index r = find(t);
-    if (out.triangle_region[r] == kInvalid) {
-      out.triangle_region[r] = static_cast<Index>(out.regions.size());
-      out.regions.emplace_back();
-    }
-    out.triangle_region[t] = out.triangle_region[r];
-  }
+  const Index count = cut_pieces(rt, nt, [&](Index e) { return A.separates(e); }, out.triangle_region);
+  out.regions.resize(count);
   const auto& region = out.triangle_region;
   std::vector<Region>& R = out.regions;
   const Index nr = static_cast<Index>(R.size());

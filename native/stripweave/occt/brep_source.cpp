@@ -85,6 +85,8 @@ struct BrepSource::Impl {
   TopTools_IndexedMapOfShape faces, edges, vertices;
   TopTools_IndexedDataMapOfShapeListOfShape edge_faces;
   mutable std::vector<std::unique_ptr<ShapeAnalysis_Surface>> analysers;  // per face, lazily
+  mutable std::vector<gp_Pnt2d> last_uv;        // per face, the previous project_to_face answer
+  mutable std::vector<std::uint8_t> has_last_uv;
 
   explicit Impl(const TopoDS_Shape& s) : shape(s) {
     TopExp::MapShapes(shape, TopAbs_FACE, faces);
@@ -92,6 +94,8 @@ struct BrepSource::Impl {
     TopExp::MapShapes(shape, TopAbs_VERTEX, vertices);
     TopExp::MapShapesAndAncestors(shape, TopAbs_EDGE, TopAbs_FACE, edge_faces);
     analysers.resize(faces.Extent());
+    last_uv.resize(faces.Extent());
+    has_last_uv.assign(faces.Extent(), 0);
   }
   const TopoDS_Face& face(Index i) const { return TopoDS::Face(faces(i + 1)); }
   const TopoDS_Edge& edge(Index i) const { return TopoDS::Edge(edges(i + 1)); }
@@ -425,13 +429,16 @@ Vec3 BrepSource::project_to_edge(Index e, const Vec3& p, double* distance) const
   return best;
 }
 
-Vec3 BrepSource::project_to_face(Index face, const Vec3& p, double* distance) const {
+Vec3 BrepSource::project_to_face(Index face, const Vec3& p, double* distance, double near) const {
   const Impl& s = *impl_;
   auto& analyser = s.analysers[face];
   if (!analyser) analyser = std::make_unique<ShapeAnalysis_Surface>(BRep_Tool::Surface(s.face(face)));
   Vec3 q = p;
   try {
-    const gp_Pnt2d uv = analyser->ValueOfUV(to_pnt(p), 1e-9);
+    const gp_Pnt2d uv = near > 0 && s.has_last_uv[face]
+                            ? analyser->NextValueOfUV(s.last_uv[face], to_pnt(p), 1e-9, near)
+                            : analyser->ValueOfUV(to_pnt(p), 1e-9);
+    s.last_uv[face] = uv, s.has_last_uv[face] = 1;
     q = to_vec(analyser->Value(uv));
   } catch (const Standard_Failure&) {
   }

@@ -25,7 +25,12 @@
 //   project_to_edge(e, p)  the point of edge e's curve nearest to p
 //   project_to_face(f, p)  the point of the face's (untrimmed) surface
 //       nearest to p, position only: evaluate() without the normal and
-//       curvature, for bulk sampling (the surfacing stage's refit)
+//       curvature, for bulk sampling (the surfacing stage's refit); with
+//       near > 0 the search starts from the face's previous answer (a local
+//       Newton, ShapeAnalysis_Surface::NextValueOfUV) and falls back to the
+//       global one only when that lands farther than `near` from p: many
+//       times faster on B-spline faces for samples that come in spatial
+//       order and lie close to the surface
 #pragma once
 
 #include "stripweave/surface/triangle_mesh.h"
@@ -73,7 +78,7 @@ class BrepSource {
 
   SurfacePoint evaluate(Index face, const Vec3& p) const;
   Vec3 project_to_edge(Index edge, const Vec3& p, double* distance = nullptr) const;
-  Vec3 project_to_face(Index face, const Vec3& p, double* distance = nullptr) const;
+  Vec3 project_to_face(Index face, const Vec3& p, double* distance = nullptr, double near = 0) const;
 
   // The shape as a BREP string (for the refit stage and for FreeCAD).
   std::string to_brep_string() const;

@@ -59,13 +59,41 @@ void DesignState::set_strips(const std::vector<StripSpec>& specs) {
   double loops_ms = 0;
   std::vector<LoopPath> paths;
   for (const DesignStrip& d : strips_) paths.push_back(d.path);
+  // On failure keep a consistent state: the strips before the failing one,
+  // fully derived (those were solved already, as the failing strip's mask),
+  // and name the strip in the error.
+  auto fail = [&](size_t failing, const std::string& what) {
+    session_->clear_disabled();
+    strips_.resize(failing);
+    prefix_mask_.resize(failing);
+    paths.resize(failing);
+    try {
+      finish(paths, loops_ms);
+    } catch (const InputError&) {
+      strips_.clear();
+      prefix_mask_.clear();
+      paths.clear();
+      finish(paths, 0);
+    }
+    throw InputError("strip " + std::to_string(failing + 1) + ": " + what);
+  };
   for (size_t i = keep; i < specs.size(); ++i) {
-    // The mask of strips 0..i-1, each extracted from the design so far.
+    // The mask of strips 0..i-1, each extracted from the design so far. The
+    // solve fails if strip i-1 contradicts the earlier ones (it crosses a
+    // loop too tangentially for a parameterization to align with both).
     std::vector<Index> mask;
     if (i > 0) {
       // Appending to the derived design (automatic weaving, a click): its mask is
       // already that of strips 0..i-1; otherwise solve the prefix.
-      mask = (i == keep && keep == derived) ? mask_ : mask_of(solve(paths, nullptr).strips);
+      if (i == keep && keep == derived) {
+        mask = mask_;
+      } else {
+        try {
+          mask = mask_of(solve(paths, nullptr).strips);
+        } catch (const InputError& e) {
+          fail(i - 1, e.what());
+        }
+      }
     }
     session_->clear_disabled();
     if (!mask.empty()) session_->set_disabled(mask, true);
@@ -77,12 +105,7 @@ void DesignState::set_strips(const std::vector<StripSpec>& specs) {
       found = session_->loops(specs[i].anchors, 1);
       if (found.empty()) throw InputError("no loop can pass its anchors with the current constraints");
     } catch (const InputError& e) {
-      // Keep a consistent state: the strips before this one, fully derived.
-      session_->clear_disabled();
-      strips_.resize(i);
-      prefix_mask_.resize(i);
-      finish(paths, loops_ms);
-      throw InputError("strip " + std::to_string(i + 1) + ": " + e.what());
+      fail(i, e.what());
     }
     clock.lap("loop");
     loops_ms += laps.back().second;
@@ -95,7 +118,12 @@ void DesignState::set_strips(const std::vector<StripSpec>& specs) {
     prefix_mask_.push_back(std::move(mask));
   }
   session_->clear_disabled();
-  finish(paths, loops_ms);
+  try {
+    finish(paths, loops_ms);
+  } catch (const InputError& e) {
+    if (strips_.empty()) throw;
+    fail(strips_.size() - 1, e.what());
+  }
 }
 
 void DesignState::finish(const std::vector<LoopPath>& paths, double loops_ms) {

@@ -10,15 +10,17 @@
 namespace stripweave {
 
 EdgeSamples sample_edge(const std::vector<Vec3>& polyline, const std::vector<std::vector<Index>>& point_faces,
-                        bool sharp, const SourceProjector& projector, int density) {
+                        bool sharp, const SourceProjector& projector, int density, double smooth) {
   EdgeSamples out;
   const size_t n = polyline.size();
   if (n < 2) throw InputError("a network edge polyline has fewer than 2 points");
   auto project = [&](const Vec3& p, const std::vector<Index>& faces) {
     return sharp ? projector.on_sharp(faces, p) : projector.on_faces(faces, p);
   };
+  std::vector<std::vector<Index>> sample_faces;  // per sample, the faces it may lie on
   // The ends are the network vertices themselves, kept exactly.
   out.points.push_back(polyline.front());
+  sample_faces.push_back(point_faces.empty() ? std::vector<Index>{} : point_faces.front());
   for (size_t k = 0; k + 1 < n; ++k) {
     // A point inside segment k may lie on any face of either end point.
     std::vector<Index> faces;
@@ -32,13 +34,45 @@ EdgeSamples sample_edge(const std::vector<Vec3>& polyline, const std::vector<std
       const double a = double(s) / density;
       if (k + 2 == n && s == density) break;  // the end vertex, added below
       const Vec3 p = (1 - a) * polyline[k] + a * polyline[k + 1];
-      out.points.push_back(project(p, s == density && !point_faces.empty() ? point_faces[k + 1] : faces));
+      sample_faces.push_back(s == density && !point_faces.empty() ? point_faces[k + 1] : faces);
+      out.points.push_back(project(p, sample_faces.back()));
     }
   }
   out.points.push_back(polyline.back());
-  out.t.assign(out.points.size(), 0.0);
-  for (size_t k = 1; k < out.points.size(); ++k) out.t[k] = out.t[k - 1] + (out.points[k] - out.points[k - 1]).norm();
-  if (out.t.back() <= 0) throw InputError("a network edge has zero length");
+  sample_faces.push_back(point_faces.empty() ? std::vector<Index>{} : point_faces.back());
+  auto arc_length = [&]() {
+    out.t.assign(out.points.size(), 0.0);
+    for (size_t k = 1; k < out.points.size(); ++k)
+      out.t[k] = out.t[k - 1] + (out.points[k] - out.points[k - 1]).norm();
+  };
+  arc_length();
+  const double L = out.t.back();
+  if (L <= 0) throw InputError("a network edge has zero length");
+  const size_t m = out.points.size();
+  if (smooth > 0 && !sharp && m > 2) {
+    const double sigma = smooth * L / double(n - 1);
+    const Vec3 a = out.points.front(), b = out.points.back();
+    std::vector<Vec3> filtered(out.points);
+    for (size_t i = 1; i + 1 < m; ++i) {
+      const double si = out.t[i];
+      Vec3 sum = Vec3::Zero();
+      double wsum = 0;
+      auto add = [&](double s, const Vec3& p) {
+        const double d = (s - si) / sigma;
+        if (std::abs(d) > 3) return;
+        const double w = std::exp(-0.5 * d * d);
+        sum += w * p, wsum += w;
+      };
+      for (size_t j = 0; j < m; ++j) {
+        add(out.t[j], out.points[j]);
+        if (j > 0 && out.t[j] < 3 * sigma) add(-out.t[j], 2 * a - out.points[j]);  // reflected about the start
+        if (j + 1 < m && L - out.t[j] < 3 * sigma) add(2 * L - out.t[j], 2 * b - out.points[j]);  // about the end
+      }
+      filtered[i] = project(sum / wsum, sample_faces[i]);
+    }
+    out.points = std::move(filtered);
+    arc_length();
+  }
   for (double& x : out.t) x /= out.t.back();
   return out;
 }

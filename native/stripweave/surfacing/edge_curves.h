@@ -18,6 +18,13 @@
 // sample_edge() densifies the polyline (each segment split into `density`
 // parts) and projects every point onto the source, so an edge fitted on a
 // coarse solver-mesh polyline still follows the exact B-rep curve.
+// With smooth > 0 (smooth edges, never sharp or boundary ones) the samples
+// are first filtered with a Gaussian of sigma = smooth mean polyline
+// segments along the arc length (odd reflection at the ends, which keeps
+// the end vertices and a straight run as they are) and then projected
+// again: a layout edge is a path of mesh edges that zig-zags by up to half
+// a mesh edge across its course, a wiggle that is no part of the geometry
+// and that a faithful edge curve would carry into both patches.
 #pragma once
 
 #include "stripweave/surfacing/bspline.h"
@@ -33,7 +40,7 @@ struct EdgeSamples {
 // `point_faces[k]`: the B-rep faces polyline point k may lie on (empty
 // without a B-rep). Sharp edges are projected onto the B-rep edge curves.
 EdgeSamples sample_edge(const std::vector<Vec3>& polyline, const std::vector<std::vector<Index>>& point_faces,
-                        bool sharp, const SourceProjector& projector, int density);
+                        bool sharp, const SourceProjector& projector, int density, double smooth = 0);
 
 BSplineCurve3 fit_edge_curve(const EdgeSamples& samples, const Vec3& start, const Vec3& end, int spans,
                              double smoothing);

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <cmath>
 #include <numeric>
 #include <sstream>
@@ -45,11 +46,38 @@ void sort_unique(std::vector<Index>& v) {
   v.erase(std::unique(v.begin(), v.end()), v.end());
 }
 
-// Orthogonal deviation of the samples from the fitted patch.
-void measure(const BSplinePatch& patch, const PatchSamples& s, PatchFitFigures& fig) {
+// Orthogonal deviation of the samples from the fitted network: the own
+// patch, and where the foot point lands on its border (the sample may lie
+// beyond the smooth edge curve, on the neighbour's side of a zig-zag mesh
+// edge path), the nearest of the patches sharing a vertex with it.
+double distance_to_network(const std::vector<BSplinePatch>& patches, Index p, const std::vector<Index>& neighbours,
+                           const Vec3& x, const Vec2& uv, double enough) {
+  Vec2 foot;
+  double d = distance_to_patch(patches[p], x, uv, &foot);
+  const bool border = foot.x() <= 1e-9 || foot.x() >= 1 - 1e-9 || foot.y() <= 1e-9 || foot.y() >= 1 - 1e-9;
+  if (!border || d <= enough) return d;
+  for (Index q : neighbours) {
+    const BSplinePatch& Q = patches[q];
+    // Start from the nearest of a 5 x 5 grid of the neighbour.
+    Vec2 start(0.5, 0.5);
+    double best = std::numeric_limits<double>::infinity();
+    for (int i = 0; i <= 4; ++i)
+      for (int j = 0; j <= 4; ++j) {
+        const double e = (Q.value(i / 4.0, j / 4.0) - x).squaredNorm();
+        if (e < best) best = e, start = Vec2(i / 4.0, j / 4.0);
+      }
+    d = std::min(d, distance_to_patch(Q, x, start, nullptr));
+    if (d <= enough) break;
+  }
+  return d;
+}
+
+void measure(const std::vector<BSplinePatch>& patches, Index p, const std::vector<Index>& neighbours,
+             const PatchSamples& s, double enough, PatchFitFigures& fig) {
+  const BSplinePatch& patch = patches[p];
   double worst = 0, sum2 = 0;
   for (size_t k = 0; k < s.points.size(); ++k) {
-    const double d = distance_to_patch(patch, s.points[k], s.uv[k]);
+    const double d = distance_to_network(patches, p, neighbours, s.points[k], s.uv[k], enough);
     worst = std::max(worst, d);
     sum2 += d * d;
   }
@@ -97,6 +125,23 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
       if (uses[e].size() > 2) throw InputError("network edge " + std::to_string(e) + " bounds more than two patch sides");
     }
 
+  // Patches sharing a vertex (for the deviation near patch borders).
+  std::vector<std::vector<Index>> vertex_patches(nV), neighbours(nP);
+  std::vector<std::vector<Index>> patch_vertices(nP);
+  for (Index p = 0; p < nP; ++p) {
+    for (Index e : network.patches[p].edges)
+      for (Index v : {network.edges[e].v0, network.edges[e].v1}) patch_vertices[p].push_back(v);
+    sort_unique(patch_vertices[p]);
+    for (Index v : patch_vertices[p]) vertex_patches[v].push_back(p);
+  }
+  for (Index p = 0; p < nP; ++p) {
+    for (Index v : patch_vertices[p])
+      for (Index q : vertex_patches[v])
+        if (q != p) neighbours[p].push_back(q);
+    sort_unique(neighbours[p]);
+  }
+  const double enough = 1e-2 * tol;  // a sample this close needs no search among the neighbours
+
   // --- 1. harmonic parameterization ----------------------------------------
   std::vector<PatchParameterization> param(nP);
   for (Index p = 0; p < nP; ++p) {
@@ -119,50 +164,23 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
   const SourceProjector projector(surface, options.edge_snap * diag);
   // Faces around each patch-mesh vertex.
   std::vector<std::vector<std::vector<Index>>> vertex_faces(nP);
-  std::vector<PatchSamples> samples(nP);
+  std::vector<bool> has_faces(nP, false);
   for (Index p = 0; p < nP; ++p) {
     const NetworkPatch& P = network.patches[p];
     const TriangleMesh& m = P.mesh;
-    const bool has_faces = projector.exact() && P.source_face.size() == m.triangles.size();
-    auto face_of = [&](Index t) { return has_faces ? P.source_face[t] : kInvalid; };
+    has_faces[p] = projector.exact() && P.source_face.size() == m.triangles.size();
     auto& vf = vertex_faces[p];
     vf.assign(m.num_vertices(), {});
-    if (has_faces) {
+    if (has_faces[p]) {
       for (Index t = 0; t < m.num_triangles(); ++t)
-        for (Index v : m.triangles[t]) vf[v].push_back(face_of(t));
+        for (Index v : m.triangles[t]) vf[v].push_back(P.source_face[t]);
       for (auto& f : vf) sort_unique(f);
-    }
-    PatchSamples& S = samples[p];
-    const auto& uv = param[p].uv;
-    for (Index v = 0; v < m.num_vertices(); ++v) {
-      S.uv.push_back(uv[v]);
-      S.points.push_back(projector.on_faces(vf[v], m.positions[v]));
-    }
-    std::vector<EdgeKey> seen;
-    for (Index t = 0; t < m.num_triangles(); ++t) {
-      const Tri& f = m.triangles[t];
-      const std::vector<Index> faces = has_faces ? std::vector<Index>{face_of(t)} : std::vector<Index>{};
-      S.uv.push_back((uv[f[0]] + uv[f[1]] + uv[f[2]]) / 3);
-      S.points.push_back(projector.on_faces(faces, (m.positions[f[0]] + m.positions[f[1]] + m.positions[f[2]]) / 3));
-      for (int k = 0; k < 3; ++k) seen.push_back(edge_key(f[k], f[(k + 1) % 3]));
-    }
-    std::sort(seen.begin(), seen.end());
-    seen.erase(std::unique(seen.begin(), seen.end()), seen.end());
-    // Edge midpoints: faces of either end (a midpoint lies in one of the two
-    // triangles along the edge, whose faces are among the ends').
-    for (const EdgeKey& e : seen) {
-      std::vector<Index> faces;
-      if (has_faces) {
-        faces = vf[e[0]];
-        faces.insert(faces.end(), vf[e[1]].begin(), vf[e[1]].end());
-        sort_unique(faces);
-      }
-      S.uv.push_back((uv[e[0]] + uv[e[1]]) / 2);
-      S.points.push_back(projector.on_faces(faces, (m.positions[e[0]] + m.positions[e[1]]) / 2));
     }
   }
 
+  const int density = std::max(1, options.edge_density);
   std::vector<EdgeSamples> edge_samples(nE);
+  std::vector<bool> edge_smoothed(nE, false);
   for (Index e = 0; e < nE; ++e) {
     const NetworkEdge& E = network.edges[e];
     // Faces along the polyline, from every patch side on this edge.
@@ -184,7 +202,106 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
     std::vector<Vec3> polyline = E.points;
     polyline.front() = network.vertices[E.v0];
     polyline.back() = network.vertices[E.v1];
-    edge_samples[e] = sample_edge(polyline, point_faces, E.sharp, projector, std::max(1, options.edge_density));
+    edge_smoothed[e] = !E.sharp && !E.boundary && uses[e].size() == 2 && options.edge_smoothing > 0;
+    edge_samples[e] = sample_edge(polyline, point_faces, E.sharp, projector, density,
+                                  edge_smoothed[e] ? options.edge_smoothing : 0.0);
+  }
+
+  // Smoothed edges: the patch meshes' boundary vertices move onto their
+  // edge's smoothed samples (the same points for both patches of a seam),
+  // the two rings inside relax (Laplacian, projected back onto the source)
+  // to take up the shift, and the harmonic map is redone. Otherwise the map
+  // would pin the zig-zag mesh path to the square's side while the edge
+  // curve runs smooth, up to half a mesh edge away: samples near the border
+  // would disagree with the edge curves across the seam by that much, which
+  // the fit can only answer with ripples.
+  std::vector<TriangleMesh> moved(nP);
+  for (Index p = 0; p < nP; ++p) {
+    const NetworkPatch& P = network.patches[p];
+    bool any = false;
+    for (int s = 0; s < 4; ++s) any = any || edge_smoothed[P.edges[s]];
+    if (!any) continue;
+    TriangleMesh m = P.mesh;
+    const Index nv = m.num_vertices();
+    std::vector<int> ring(nv, -1);  // 0: boundary, 1, 2: rings inside
+    for (int s = 0; s < 4; ++s) {
+      const Index e = P.edges[s];
+      const auto& verts = param[p].side_vertices[s];
+      const size_t n = verts.size();
+      for (size_t k = 0; k < n; ++k) {
+        ring[verts[k]] = 0;
+        if (!edge_smoothed[e] || k == 0 || k + 1 == n) continue;
+        const size_t i = P.reversed[s] ? n - 1 - k : k;
+        m.positions[verts[k]] = edge_samples[e].points[i * density];
+      }
+    }
+    std::vector<std::vector<Index>> nbr(nv);
+    for (const Tri& f : m.triangles)
+      for (int k = 0; k < 3; ++k) nbr[f[k]].push_back(f[(k + 1) % 3]), nbr[f[k]].push_back(f[(k + 2) % 3]);
+    for (auto& l : nbr) sort_unique(l);
+    for (int r = 1; r <= 2; ++r)
+      for (Index v = 0; v < nv; ++v)
+        if (ring[v] < 0)
+          for (Index w : nbr[v])
+            if (ring[w] == r - 1) {
+              ring[v] = r;
+              break;
+            }
+    for (int it = 0; it < 4; ++it) {
+      std::vector<Vec3> next = m.positions;
+      for (Index v = 0; v < nv; ++v) {
+        if (ring[v] != 1 && ring[v] != 2) continue;
+        Vec3 c = Vec3::Zero();
+        for (Index w : nbr[v]) c += m.positions[w];
+        next[v] = projector.on_faces(vertex_faces[p][v], c / double(nbr[v].size()));
+      }
+      m.positions = std::move(next);
+    }
+    NetworkPatch copy;
+    copy.edges = P.edges, copy.reversed = P.reversed, copy.corners = P.corners;
+    copy.mesh = m;
+    try {
+      param[p] = harmonic_square_map(copy);
+    } catch (const InputError& e) {
+      throw InputError("patch " + std::to_string(p) + ": " + e.what());
+    }
+    moved[p] = std::move(m);
+  }
+
+  std::vector<PatchSamples> samples(nP);
+  for (Index p = 0; p < nP; ++p) {
+    const NetworkPatch& P = network.patches[p];
+    const TriangleMesh& m = moved[p].num_vertices() ? moved[p] : P.mesh;
+    auto face_of = [&](Index t) { return has_faces[p] ? P.source_face[t] : kInvalid; };
+    const auto& vf = vertex_faces[p];
+    PatchSamples& S = samples[p];
+    const auto& uv = param[p].uv;
+    for (Index v = 0; v < m.num_vertices(); ++v) {
+      S.uv.push_back(uv[v]);
+      S.points.push_back(projector.on_faces(vf[v], m.positions[v]));
+    }
+    std::vector<EdgeKey> seen;
+    for (Index t = 0; t < m.num_triangles(); ++t) {
+      const Tri& f = m.triangles[t];
+      const std::vector<Index> faces = has_faces[p] ? std::vector<Index>{face_of(t)} : std::vector<Index>{};
+      S.uv.push_back((uv[f[0]] + uv[f[1]] + uv[f[2]]) / 3);
+      S.points.push_back(projector.on_faces(faces, (m.positions[f[0]] + m.positions[f[1]] + m.positions[f[2]]) / 3));
+      for (int k = 0; k < 3; ++k) seen.push_back(edge_key(f[k], f[(k + 1) % 3]));
+    }
+    std::sort(seen.begin(), seen.end());
+    seen.erase(std::unique(seen.begin(), seen.end()), seen.end());
+    // Edge midpoints: faces of either end (a midpoint lies in one of the two
+    // triangles along the edge, whose faces are among the ends').
+    for (const EdgeKey& e : seen) {
+      std::vector<Index> faces;
+      if (has_faces[p]) {
+        faces = vf[e[0]];
+        faces.insert(faces.end(), vf[e[1]].begin(), vf[e[1]].end());
+        sort_unique(faces);
+      }
+      S.uv.push_back((uv[e[0]] + uv[e[1]]) / 2);
+      S.points.push_back(projector.on_faces(faces, (m.positions[e[0]] + m.positions[e[1]]) / 2));
+    }
   }
   watch.lap("sample");
 
@@ -220,6 +337,29 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
     }
   };
 
+  // Parameter correction: each sample's (u, v) becomes its foot point on
+  // the current fit, and samples whose foot point lies on the patch border
+  // (beyond the smooth edge curve, the neighbour's side of a zig-zag mesh
+  // edge path) leave the fit. The harmonic map puts the patch mesh's
+  // zig-zag boundary on the square's sides, so near the border it is off by
+  // up to half a mesh edge across the seam: fitted as they are, these
+  // samples bend the patch to reconcile parameters that disagree with the
+  // edge curves.
+  std::vector<PatchSamples> fit_samples = samples;
+  auto correct_parameters = [&](Index p) {
+    const BSplinePatch& B = result.surfaces[p];
+    PatchSamples& S = samples[p];
+    PatchSamples& F = fit_samples[p];
+    F.uv.clear(), F.points.clear();
+    for (size_t k = 0; k < S.points.size(); ++k) {
+      Vec2 foot;
+      distance_to_patch(B, S.points[k], S.uv[k], &foot);
+      S.uv[k] = foot;
+      const bool border = foot.x() <= 1e-9 || foot.x() >= 1 - 1e-9 || foot.y() <= 1e-9 || foot.y() >= 1 - 1e-9;
+      if (!border) F.uv.push_back(foot), F.points.push_back(S.points[k]);
+    }
+  };
+
   auto fit_round = [&]() {
     for (Index e = 0; e < nE; ++e)
       if (edge_dirty[e]) {
@@ -231,8 +371,14 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
     std::vector<Index> which;
     for (Index p = 0; p < nP; ++p)
       if (patch_dirty[p]) set_boundary(p), which.push_back(p);
-    if (!which.empty()) fit_patch_interiors(result.surfaces, samples, which, {}, options.smoothing, 0);
-    for (Index p : which) measure(result.surfaces[p], samples[p], report.per_patch[p]);
+    if (!which.empty()) {
+      fit_patch_interiors(result.surfaces, fit_samples, which, {}, options.smoothing, 0);
+      for (int c = 0; c < options.parameter_corrections; ++c) {
+        for (Index p : which) correct_parameters(p);
+        fit_patch_interiors(result.surfaces, fit_samples, which, {}, options.smoothing, 0);
+      }
+    }
+    for (Index p : which) measure(result.surfaces, p, neighbours[p], samples[p], enough, report.per_patch[p]);
     std::fill(edge_dirty.begin(), edge_dirty.end(), false);
     std::fill(patch_dirty.begin(), patch_dirty.end(), false);
   };
@@ -287,6 +433,18 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
     seam_edge.push_back(e);
   }
 
+  // Largest normal-angle jump over the middle of the smooth seams.
+  auto seam_angle = [&](const std::vector<BSplinePatch>& surfaces) {
+    double worst = 0;
+    for (const Seam& sm : seams)
+      for (int k = 0; k <= 20; ++k) {
+        const double t = options.seam_from + (options.seam_to - options.seam_from) * k / 20.0;
+        const Vec2 ua = side_uv(sm.side_a, t), ub = side_uv(sm.side_b, sm.b_reversed ? 1 - t : t);
+        worst = std::max(worst, angle_deg(surfaces[sm.a].normal(ua.x(), ua.y()), surfaces[sm.b].normal(ub.x(), ub.y())));
+      }
+    return worst;
+  };
+
   const int kMaxRounds = 40;
   for (int outer = 0; outer < 3; ++outer) {
     do {
@@ -294,12 +452,42 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
       ++report.rounds;
     } while (report.rounds < kMaxRounds && refine());
     if (seams.empty() || options.seam_weight <= 0) break;
-    // 4. One coupled fit for tangent continuity across smooth seams.
-    for (Seam& s : seams) s.alpha = seam_speed_ratio(result.surfaces, s);
+    // 4. Tangent continuity across smooth seams.
     const std::vector<BSplinePatch> uncoupled = result.surfaces;
     const std::vector<PatchFitFigures> uncoupled_fig = report.per_patch;
-    fit_patch_interiors(result.surfaces, samples, {}, seams, options.smoothing, options.seam_weight);
-    for (Index p = 0; p < nP; ++p) measure(result.surfaces[p], samples[p], report.per_patch[p]);
+    if (options.seam_mode == 1) {
+      for (Seam& s : seams) s.alpha = seam_speed_ratio(result.surfaces, s);
+      fit_patch_interiors(result.surfaces, fit_samples, {}, seams, options.smoothing, options.seam_weight);
+    } else {
+      for (int round = 0; round < std::max(1, options.tangent_rounds); ++round) {
+        std::vector<ControlTarget> targets;
+        for (const Seam& sm : seams) {
+          const BSplinePatch &A = result.surfaces[sm.a], &B = result.surfaces[sm.b];
+          const int N = side_size(A, sm.side_a);
+          if (side_size(B, sm.side_b) != N) continue;
+          const int n = N - 3;  // spans along the seam
+          auto knot = [&](int j) { return std::clamp(double(j - 3) / n, 0.0, 1.0); };
+          for (int m = 1; m <= N - 2; ++m) {
+            const int mb = sm.b_reversed ? N - 1 - m : m;
+            const double t = (knot(m + 1) + knot(m + 2) + knot(m + 3)) / 3;  // Greville
+            const Vec2 ua = side_uv(sm.side_a, t), ub = side_uv(sm.side_b, sm.b_reversed ? 1 - t : t);
+            const Vec3 na = A.normal(ua.x(), ua.y()), nb = B.normal(ub.x(), ub.y());
+            Vec3 nm = na + (na.dot(nb) >= 0 ? nb : Vec3(-nb));
+            if (nm.norm() <= 1e-12) continue;
+            nm.normalize();
+            const auto q = side_control(A, sm.side_a, m, 0);
+            const Vec3 Q = A.P(q[0], q[1]);
+            const auto ca = side_control(A, sm.side_a, m, 1);
+            const auto cb = side_control(B, sm.side_b, mb, 1);
+            const Vec3 a = A.P(ca[0], ca[1]), b = B.P(cb[0], cb[1]);
+            targets.push_back({sm.a, ca[0], ca[1], Vec3(a - (a - Q).dot(nm) * nm)});
+            targets.push_back({sm.b, cb[0], cb[1], Vec3(b - (b - Q).dot(nm) * nm)});
+          }
+        }
+        fit_patch_interiors(result.surfaces, fit_samples, {}, {}, options.smoothing, 0, targets, options.seam_weight);
+      }
+    }
+    for (Index p = 0; p < nP; ++p) measure(result.surfaces, p, neighbours[p], samples[p], enough, report.per_patch[p]);
     // If the coupling pushed a patch over tolerance, refine and go again.
     if (report.rounds < kMaxRounds && outer < 2 && refine()) continue;
     // Refinement is exhausted: tolerance before tangent continuity.
@@ -309,6 +497,16 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
         report.per_patch[p] = uncoupled_fig[p];
         ++report.uncoupled_patches;
       }
+    // The seam condition is a means to tangent continuity, not an end: where
+    // the uncoupled fits already meet better at the smooth seams (an
+    // accurate fit of a smooth source is nearly G1 by itself, and the
+    // condition, being stronger than G1, can cost more than it gives), keep
+    // them.
+    if (seam_angle(uncoupled) < seam_angle(result.surfaces)) {
+      result.surfaces = uncoupled;
+      report.per_patch = uncoupled_fig;
+      report.uncoupled_patches = nP;
+    }
     break;
   }
   watch.lap("fit");

@@ -22,12 +22,33 @@
 //      strips through a patch or edge above tolerance by the cubic
 //      convergence estimate n' = n (err/tol)^(1/4), until all meet the
 //      tolerance or `max_spans`.
-//   4. Tangent continuity: one coupled fit of all patch interiors with C1
-//      penalties across the smooth (non-sharp, non-boundary) seams. Sharp
-//      seams stay C0. Watertightness never depends on this: the boundary rows
+//   4. Tangent continuity across the smooth (non-sharp, non-boundary)
+//      seams; sharp seams stay C0. seam_mode 1 (default): one coupled fit
+//      with C1 penalties (A_m - Q_m) + alpha (B_m - Q_m) = 0 (patch_fit.h),
+//      which with a constant alpha along the seam is stronger than G1 and
+//      costs accuracy where the two patches' parameterizations meet the
+//      seam at varying angles. seam_mode 0 (experimental, measured worse
+//      on a lofted part: 2.5 deg against 0.02): tangent planes.
+//      At each control m of a seam's shared boundary row Q, the normal n_m
+//      is the mean of both patches' normals at the Greville point; each
+//      patch's first inner control A_m is then pulled to its projection
+//      onto the plane through Q_m normal to n_m, and the patches are
+//      refitted (tangent_rounds times). When every A_m - Q_m of both sides
+//      lies in the plane of n_m, both cross-boundary derivatives and the
+//      seam tangent do too: the normals agree (G1) up to the variation of n
+//      between Greville points. The conditions are per patch, so the fits
+//      stay independent, and they ask nothing a smooth source does not
+//      already have. Either way, when the fits without the seam condition
+//      meet at a smaller normal angle over the middle of the smooth seams
+//      (as on a finely split sphere, 0.7 deg against 1.7), they are kept
+//      (uncoupled_patches then counts every patch). Watertightness never depends on this: the boundary rows
 //      are the edge curves' control points.
 //   5. Report: deviation at the samples (orthogonal distance source ->
-//      fitted patch), seam gaps (both patches' sides sampled against each
+//      fitted network: the sample's own patch, or, where its foot point
+//      falls on the patch border, the nearest of the patches sharing a
+//      vertex with it; a layout edge zig-zags over the mesh while its
+//      edge curve runs smooth, so a patch-mesh sample by the border may lie
+//      on the neighbour's side of the seam), seam gaps (both patches' sides sampled against each
 //      other), normal-angle jumps across smooth seams over the middle of
 //      each seam ([seam_from, seam_to] of its parameter, since at irregular
 //      vertices G1 is impossible at the corner itself) and over the whole
@@ -55,8 +76,13 @@ struct FitOptions {
   int initial_spans = 1;
   int max_spans = 24;
   double smoothing = 1e-9;           // thin-plate weight (against the mean squared data term)
-  double seam_weight = 100;          // C1 penalty across smooth seams (0: no coupling)
+  double seam_weight = 100;          // weight of the seam condition across smooth seams (0: none)
+  int seam_mode = 1;                 // 1: C1 coupling, 0: tangent planes (G1 by the averaged normal)
+  int tangent_rounds = 2;            // seam_mode 0: rounds of tangent-plane targets
   int edge_density = 4;              // edge polyline segments are split in this many samples
+  int parameter_corrections = 0;     // foot-point re-parameterizations per patch fit (experimental: the border
+                                     // samples it drops leave the first inner rows free, which can fold)
+  double edge_smoothing = 3.0;       // smooth edges: Gaussian sigma in polyline segments (0: none), edge_curves.h
   double edge_snap = 5e-3;           // sharp-edge snap distance, relative to the bbox diagonal
   double seam_from = 0.2, seam_to = 0.8;  // where the seam angle is measured (edge parameter)
   bool build_shell = true;

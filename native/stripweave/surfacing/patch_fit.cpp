@@ -90,7 +90,7 @@ BandSystem assemble(const BSplinePatch& p, const PatchSamples& s, double smoothi
 
 void fit_patch_interiors(std::vector<BSplinePatch>& patches, const std::vector<PatchSamples>& samples,
                          const std::vector<Index>& which_in, const std::vector<Seam>& seams, double smoothing,
-                         double seam_weight) {
+                         double seam_weight, const std::vector<ControlTarget>& targets, double target_weight) {
   std::vector<Index> which = which_in;
   if (which.empty())
     for (Index p = 0; p < static_cast<Index>(patches.size()); ++p) which.push_back(p);
@@ -150,6 +150,15 @@ void fit_patch_interiors(std::vector<BSplinePatch>& patches, const std::vector<P
           for (int y = 0; y < 2; ++y) trip.emplace_back(g[x], g[y], w * coef[x] * coef[y]);
         }
       }
+    }
+
+  if (target_weight > 0)
+    for (const ControlTarget& t : targets) {
+      if (t.patch < 0 || offset[t.patch] == kInvalid || !is_free(patches[t.patch], t.i, t.j)) continue;
+      const Index g = gid(t.patch, t.i, t.j);
+      const double w = target_weight * mean_diag[t.patch];
+      rhs.row(g) += w * t.target.transpose();
+      trip.emplace_back(g, g, w);
     }
 
   Eigen::SparseMatrix<double> M(n, n);

@@ -52,11 +52,22 @@ struct Seam {
   double alpha = 1;  // |A_k - Q_k| / |B_k - Q_k|, estimated by seam_speed_ratio
 };
 
+// A wanted position of one inner control (penalty |P(i, j) - target|^2,
+// weight relative to the patch's mean data diagonal): the tangent-plane
+// seam condition of fit_patch_network.
+struct ControlTarget {
+  Index patch = kInvalid;
+  int i = 0, j = 0;
+  Vec3 target = Vec3::Zero();
+};
+
 // Solve the inner controls of patches `which` (all of `patches` if empty);
-// seams between two solved patches couple them with weight `seam_weight`.
+// seams between two solved patches couple them with weight `seam_weight`;
+// targets of solved patches pull with weight `target_weight`.
 void fit_patch_interiors(std::vector<BSplinePatch>& patches, const std::vector<PatchSamples>& samples,
                          const std::vector<Index>& which, const std::vector<Seam>& seams, double smoothing,
-                         double seam_weight);
+                         double seam_weight, const std::vector<ControlTarget>& targets = {},
+                         double target_weight = 0);
 
 // The ratio of the cross-boundary control offsets of a over b along a seam.
 double seam_speed_ratio(const std::vector<BSplinePatch>& patches, const Seam& seam);

@@ -29,7 +29,7 @@ Vec3 SourceProjector::on_faces(const std::vector<Index>& faces, const Vec3& p) c
   for (Index f : faces) {
     if (f < 0 || f >= brep_->num_faces()) continue;
     double d;
-    const Vec3 q = brep_->project_to_face(f, p, &d);
+    const Vec3 q = brep_->project_to_face(f, p, &d, edge_snap_);
     if (d < best_d) best_d = d, best = q;
   }
   return best;

@@ -1,0 +1,135 @@
+"""Refit benchmark: the surfacing stage (issue 7) on real layouts, with figures.
+
+    /usr/bin/python3 examples/refit_bench.py [--only NAME ...]
+
+Cases (each: model -> surface -> design -> layout -> patch network -> refit):
+  screw     /work/shared/models/step/screw.step (outside the repo; skipped when
+            absent) with a hand-made "box" design: one loop around the shank, two
+            through the axis over the head.
+  sphere96  the 96-patch cube-sphere network of the tests: refit time at ~100 patches.
+  loft      the lofted part of tests/test_refit.py (box design).
+  cylinder  the capped cylinder's box design (the test case), for reference.
+Prints per case: patches, max/rms deviation against the tolerance, seam gap, seam
+angle (middle of smooth seams; regular seams), volume, refit time and setup time.
+"""
+import argparse
+import math
+import os
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(HERE)
+for path in ("/usr/lib/freecad-python3/lib", os.path.join(REPO, "workbench"), os.path.join(REPO, "build")):
+    if path not in sys.path:
+        sys.path.append(path)
+
+import numpy as np  # noqa: E402
+
+import FreeCAD  # noqa: E402,F401  (before Part)
+import Part  # noqa: E402
+
+import stripweave as sw  # noqa: E402
+from stripweave.design import Design  # noqa: E402
+from stripweave.strips import DesignSession  # noqa: E402
+from stripweave.surfacing import refit_design  # noqa: E402
+
+SCREW = "/work/shared/models/step/screw.step"
+
+
+def screw_case():
+    if not os.path.exists(SCREW):
+        return None
+    shape = Part.read(SCREW)
+    ax, ay = -17.8981, -0.8263  # the shank's axis (z), radius 5, from z = -33.6 to 0.4
+    anchors = [[(ax + 5, ay, -16, 0, 1, 0)], [(ax + 5, ay, -16, 0, 0, 1)], [(ax, ay + 5, -16, 0, 0, 1)]]
+    return shape, anchors, None
+
+
+def sphere96_case():
+    """The 96-patch cube-sphere network of tests/test_surfacing.py (each cube face split
+    4 x 4, projected onto the sphere): a hand-built network, since the design's
+    compatibility mask refuses most further strips on a sphere past a few."""
+    sys.path.append(os.path.join(REPO, "tests"))
+    from test_surfacing import cube_network
+    R = 5.0
+    net = cube_network(lambda p: R * p / np.linalg.norm(p), grid=4, sharp=False, split=4)
+    return Part.makeSphere(R), net, None
+
+
+def cylinder_case():
+    anchors = [[(5, 0, 10, 0, 1, 0)], [(-5, 0, 10, 0, 0, 1)], [(0, 5, 10, 0, 0, 1)]]
+    return Part.makeCylinder(5, 20), anchors, None
+
+
+def loft_case():
+    """The lofted part of tests/test_refit.py with its box design."""
+    sys.path.append(os.path.join(REPO, "tests"))
+    from test_refit import lofted_solid, side_point
+    shape = lofted_solid()
+    anchors = [[side_point(shape, 0.3, 12) + (-math.sin(0.3), math.cos(0.3), 0)],
+               [side_point(shape, 0, 12) + (0, 0, 1)], [side_point(shape, math.pi / 2, 12) + (0, 0, 1)]]
+    return shape, anchors, None
+
+
+CASES = {"screw": screw_case, "loft": loft_case, "sphere96": sphere96_case, "cylinder": cylinder_case}
+
+
+def run(name, make, triangles, step_dir):
+    case = make()
+    if case is None:
+        print(f"{name}: skipped (model not found)")
+        return
+    shape, anchors, _ = case
+    t0 = time.perf_counter()
+    surface = sw.from_shape(shape, target_triangles=triangles)
+    if isinstance(anchors, dict):  # a ready patch network
+        network = anchors
+        refit_call = lambda **kw: sw._native.refit(surface, network, **kw)  # noqa: E731
+    else:
+        try:
+            ds = DesignSession(surface, Design(anchors))
+            network = ds.native.patch_network()
+        except sw.InputError as exc:
+            print(f"{name}: design failed: {exc}")
+            return
+        refit_call = lambda **kw: refit_design(ds, **kw)  # noqa: E731
+    setup = time.perf_counter() - t0
+    if not network["patches"]:
+        print(f"{name}: layout not valid (red regions)")
+        return
+    step = os.path.join(step_dir, f"{name}.step") if step_dir else None
+    t0 = time.perf_counter()
+    r = refit_call(step_path=step)
+    refit = time.perf_counter() - t0
+    vol = r["volume"]
+    vol_s = f"{vol:.6g}" if vol is not None else "-"
+    if vol is not None:
+        vol_s += f" (source {shape.Volume:.6g}, error {vol / shape.Volume - 1:+.2e})"
+    diag = network.get("bbox_diagonal") or shape.BoundBox.DiagonalLength
+    print(f"{name}: {len(network['patches'])} patches, {r['smooth_seams']} smooth / {r['sharp_seams']} sharp seams")
+    print(f"  deviation max {r['max_deviation']:.3g} rms {r['rms_deviation']:.3g} (tolerance {r['tolerance']:.3g}, "
+          f"met: {r['tolerance_met']}; edges {r['max_edge_deviation']:.3g}); diagonal {diag:.4g}")
+    print(f"  seam gap {r['max_seam_gap']:.2g} ({r['max_seam_gap'] / diag:.1e} of the diagonal); seam angle "
+          f"{r['max_seam_angle_deg']:.3f} deg (middle), {r['max_seam_angle_deg_regular']:.3f} deg (regular seams), "
+          f"{r['max_seam_angle_deg_full']:.3f} deg (whole seams)")
+    print(f"  shell: valid {r['valid_shell']}, closed {r['closed']}, volume {vol_s}; STEP faces read back "
+          f"{r['step_faces_read_back']}")
+    print(f"  refit {refit:.2f} s (native {r['time_s']:.2f} s: "
+          + ", ".join(f"{k} {v / 1000:.2f}" for k, v in r["timings_ms"].items())
+          + f"); setup (surface, design, layout) {setup:.2f} s")
+    sys.stdout.flush()
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--only", nargs="*", choices=sorted(CASES), help="cases to run (default: all)")
+    ap.add_argument("--triangles", type=int, default=20000, help="solver mesh size")
+    ap.add_argument("--step-dir", default=None, help="write each case's STEP here")
+    args = ap.parse_args(argv)
+    for name in args.only or CASES:
+        run(name, CASES[name], args.triangles, args.step_dir)
+
+
+if __name__ == "__main__":
+    main()

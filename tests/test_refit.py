@@ -1,0 +1,137 @@
+"""Issue 7 end to end: model -> surface -> design -> layout -> patch network -> B-spline
+patches, shell/solid and STEP (stripweave.surfacing.refit_design), on analytic cases.
+
+Figures are in model units; the tolerance defaults to 1e-3 of the bbox diagonal.
+"""
+import math
+
+import numpy as np
+import pytest
+
+import FreeCAD  # noqa: F401  (before Part)
+import Part
+from FreeCAD import Vector
+
+import stripweave as sw
+from models import box, capped_cylinder
+from stripweave.design import Design
+from stripweave.strips import DesignSession
+from stripweave.surfacing import FIT_KEYS, fit_report, format_fit, refit_design
+
+CUBE_BELTS = [[(5, 5, 10, 1, 0, 0)], [(5, 3, 0, 0, 1, 0)], [(3, 0, 5, 1, 0, 0)]]
+CYLINDER_BOX = [[(5, 0, 10, 0, 1, 0)], [(-5, 0, 10, 0, 0, 1)], [(0, 5, 10, 0, 0, 1)]]
+
+
+def step_faces(path):
+    """Faces of a STEP file as FreeCAD reads it."""
+    shape = Part.read(str(path))
+    return len(shape.Faces)
+
+
+def check_shell(result, diagonal):
+    assert result["valid_shell"] and result["shells"] == 1 and result["free_edges"] == 0
+    assert result["max_seam_gap"] < 1e-6 * diagonal
+
+
+@pytest.fixture(scope="module")
+def cube_fit(tmp_path_factory):
+    ds = DesignSession(sw.from_shape(box(10), target_triangles=12000), Design(CUBE_BELTS))
+    step = tmp_path_factory.mktemp("cube") / "patches.step"
+    return ds, refit_design(ds, step_path=str(step)), step
+
+
+def test_cube_three_belts(cube_fit):
+    ds, r, step = cube_fit
+    diagonal = 10 * math.sqrt(3)
+    assert len(r["per_patch"]) == 6 and r["faces"] == 6
+    assert r["max_deviation"] <= 1e-4 * diagonal
+    check_shell(r, diagonal)
+    assert r["closed"] and r["volume"] == pytest.approx(1000, rel=1e-3)
+    assert r["sharp_seams"] == 12 and r["smooth_seams"] == 0
+    # STEP round trip: the native read-back and FreeCAD's.
+    assert r["step_faces_read_back"] == 6
+    assert step_faces(step) == 6
+
+
+def test_fit_report_block(cube_fit):
+    _, r, _ = cube_fit
+    fit = fit_report(r)
+    for k in FIT_KEYS + ("per_patch", "tolerance", "valid_shell", "closed", "volume", "faces"):
+        assert k in fit
+    assert fit["tolerance"] == pytest.approx(1e-3 * 10 * math.sqrt(3))
+    assert len(fit["per_patch"]) == 6 and fit["faces"] == 6 and fit["closed"] and fit["valid_shell"]
+    assert all(isinstance(fit[k], float) for k in FIT_KEYS)
+    assert "6 patches" in format_fit(fit)
+
+
+def test_capped_cylinder_box_design(tmp_path):
+    shape = capped_cylinder(5, 20)
+    bb = shape.BoundBox
+    assert (bb.ZMin, bb.ZMax) == (0, 20)  # the issue's anchors assume the axis z from 0 to 20
+    ds = DesignSession(sw.from_shape(shape, target_triangles=12000), Design(CYLINDER_BOX))
+    step = tmp_path / "cylinder.step"
+    r = refit_design(ds, step_path=str(step))
+    diagonal = math.sqrt(10 ** 2 + 10 ** 2 + 20 ** 2)
+    assert len(r["per_patch"]) == 6
+    # The patch corners sit on the rims, so the rims are patch borders (sharp seams).
+    L = ds.native.layout()
+    assert all(v["placement"] == "feature" for v in L["vertices"])
+    assert all(abs(v["position"][2]) < 1e-9 or abs(v["position"][2] - 20) < 1e-9 for v in L["vertices"])
+    assert r["sharp_seams"] == 8 and r["smooth_seams"] == 4
+    assert r["max_deviation"] <= 1e-3 * diagonal and r["tolerance_met"]
+    check_shell(r, diagonal)
+    assert r["closed"] and r["volume"] == pytest.approx(500 * math.pi, rel=5e-3)
+    assert r["max_seam_angle_deg"] < 1.0
+    assert r["step_faces_read_back"] == 6 and step_faces(step) == 6
+
+
+def lofted_solid():
+    """A freeform closed part: a loft through four twisted ellipses, capped."""
+    def section(z, a, b, turn_deg):
+        w = Part.Wire(Part.Ellipse(Vector(0, 0, z), a, b).toShape())
+        w.rotate(Vector(0, 0, z), Vector(0, 0, 1), turn_deg)
+        return w
+    return Part.makeLoft([section(0, 8, 5, 0), section(8, 6, 4, 20), section(16, 7, 6, 40), section(24, 5, 4, 60)],
+                         True, False)
+
+
+def side_point(shape, theta, z):
+    ray = Part.makeLine(Vector(0, 0, z), Vector(30 * math.cos(theta), 30 * math.sin(theta), z))
+    return tuple(Part.Compound(shape.Faces).distToShape(ray)[1][0][0])
+
+
+def test_freeform_loft_box_design(tmp_path):
+    """A box design on a lofted part: one loop around the side, two over the caps. The
+    layout's 8 vertices are valence 3 (no regular vertex, so no regular seam figure); the
+    4 side seams are smooth."""
+    shape = lofted_solid()
+    anchors = [[side_point(shape, 0.3, 12) + (-math.sin(0.3), math.cos(0.3), 0)],
+               [side_point(shape, 0, 12) + (0, 0, 1)], [side_point(shape, math.pi / 2, 12) + (0, 0, 1)]]
+    ds = DesignSession(sw.from_shape(shape, target_triangles=15000), Design(anchors))
+    step = tmp_path / "loft.step"
+    r = refit_design(ds, step_path=str(step))
+    diagonal = ds.native.patch_network()["bbox_diagonal"]  # exact (FreeCAD's BoundBox is the control net's)
+    assert diagonal == pytest.approx(shape.optimalBoundingBox().DiagonalLength, rel=1e-3)
+    assert len(r["per_patch"]) == 6
+    assert r["tolerance"] == pytest.approx(1e-3 * diagonal, rel=1e-3)
+    assert r["tolerance_met"] and r["max_deviation"] <= r["tolerance"]
+    check_shell(r, diagonal)
+    assert r["closed"] and r["volume"] == pytest.approx(shape.Volume, rel=1e-3)
+    # Smooth seams: the normal jump over the middle of each seam (G1 is impossible at
+    # the valence-3 corners themselves).
+    assert r["smooth_seams"] == 4 and r["max_seam_angle_deg"] < 1.0
+    assert r["step_faces_read_back"] == 6 and step_faces(step) == 6
+
+
+def test_invalid_design_has_nothing_to_fit():
+    ds = DesignSession(sw.from_shape(box(10), target_triangles=6000), Design(CUBE_BELTS[:1]))
+    with pytest.raises(sw.InputError, match="no patches to fit"):
+        refit_design(ds)
+
+
+def test_user_tolerance_and_options(cube_fit):
+    ds, _, _ = cube_fit
+    r = refit_design(ds, tolerance=0.5, max_spans=4)
+    assert r["tolerance"] == 0.5 and r["tolerance_met"]
+    with pytest.raises(sw.InputError):
+        refit_design(ds, no_such_option=1)
