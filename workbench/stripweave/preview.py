@@ -186,7 +186,7 @@ def shade(tri_img, bary, vertices, triangles, normals, light, stripes, tints, st
         across = (corners[t, :, 1] * b).sum(1)         # per triangle corner (along, across)
         inside = ~np.isnan(across)
         phase = np.abs(((across[inside] / stripe_period) + 0.5) % 1.0 - 0.5)  # 0 on a stripe line
-        line = np.clip(1.6 - phase * 8.0, 0, 1) * 0.85
+        line = np.clip(1.6 - phase * 8.0, 0, 1) * 0.6
         hue = HUES[i % len(HUES)]
         idx = np.nonzero(inside)[0]
         rgb[idx] = rgb[idx] * (1 - line[:, None]) + hue * lambert[idx, None] * line[:, None]
@@ -227,8 +227,10 @@ def render_preview(path, vertices, triangles, normals, stripes=(), tints=None, l
     img = shade(tri_img, bary, vertices, triangles, normals, light, stripes, tints, period)
     img = img.reshape(H, W, 3)
     offset = 2.5 * span * supersample + 1e-3 * diag   # lines on the surface win against it
-    for polylines, colour, w in ((thin_lines, (0.25, 0.25, 0.3), 1.0), (lines, (0.08, 0.08, 0.1), 2.2)):
-        draw_lines(img, depth, project, polylines, np.array(colour), width_px=w * supersample, offset=offset)
+    # Loops (spines) in their strip's hue, under the patch edges, which are drawn last and widest.
+    for i, line in enumerate(thin_lines):
+        draw_lines(img, depth, project, [line], 0.7 * HUES[i % len(HUES)], width_px=1.6 * supersample, offset=offset)
+    draw_lines(img, depth, project, lines, np.array((0.05, 0.05, 0.07)), width_px=3.0 * supersample, offset=offset)
     if supersample > 1:
         img = img.reshape(height, supersample, width, supersample, 3).mean(axis=(1, 3))
     write_png(path, np.clip(img * 255 + 0.5, 0, 255).astype(np.uint8))
