@@ -10,6 +10,7 @@
                                          regions, assessment and primal quad layout -> DIR/layout.json
     stripweave weave MODEL [--design D.json] [--auto] --out DIR [--step] [--json]
                     [--max-strips N] [--patches N] [--no-features] [--boundary aligned|trimmed] [--seed S]
+                    [--time-limit S]
                                          the main job: (automatic) design, layout, report, preview.png
     stripweave bench MODEL [--repeat N]  stage timings and sizes, JSON
 
@@ -168,7 +169,8 @@ def cmd_weave(args):
     result = weave(args.model, design=args.design, auto=args.auto, out=args.out, max_strips=args.max_strips,
                    patches=args.patches, features=not args.no_features, boundary=args.boundary, seed=args.seed,
                    step=args.step, verbose=True, target_triangles=args.target_triangles,
-                   feature_angle_deg=args.feature_angle)
+                   feature_angle_deg=args.feature_angle,
+                   time_limit_s=args.time_limit if args.time_limit > 0 else float("inf"))
     report = {k: v for k, v in result.items() if k not in ("surface", "design", "log")}
     if args.json:
         print(json.dumps(report))
@@ -253,6 +255,9 @@ def build_parser():
                    help="dual curves meet open boundaries orthogonally (aligned) or at any angle (trimmed); "
                         "default: the design's, else aligned")
     p.add_argument("--seed", type=int, default=0, help="vary which seed points are tried first (deterministic)")
+    p.add_argument("--time-limit", type=float, default=16.0, metavar="S",
+                   help="seconds of weaving after which only red regions are worked on (default 16; 0: no "
+                        "limit, so the result does not depend on the machine's speed)")
     p.add_argument("--json", action="store_true", help="print report.json's content (plus paths) on stdout")
     _add_surface_options(p)
     p.set_defaults(run=cmd_weave)

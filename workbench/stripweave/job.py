@@ -105,6 +105,8 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
     max_strips  strips at most (the given ones included); patches: target patch count (0: coarse)
     features    align to sharp feature curves; boundary: "aligned" | "trimmed" (default: the design's)
     seed        varies which seed points are tried first (deterministic)
+    time_limit_s, refine, uncovered, ...: see weave.WeaveOptions (time_limit_s=inf: the result
+                never depends on the machine's speed; only cancelled slow loop queries still can)
     step        also fit patches and write patches.step (needs the surfacing stage)
     """
     timings = {}
