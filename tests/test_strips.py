@@ -276,3 +276,26 @@ def test_a_strip_contradicting_the_design_is_refused_and_the_rest_stays_derived(
         except sw.InputError:
             pass
     assert len(ds.design.strips) == before + 1
+
+
+def test_a_compatibility_band_allows_parallel_loops_beyond_it(torus_surface):
+    """The paper disables parallel directions over the whole strip, so a torus takes one
+    meridian; with a band of 3 units, a second meridian a quarter turn away is accepted and
+    one next to the first (1 unit away) is still refused."""
+    far = [(0, 13, 0, 0, 0, 1)]  # the meridian at 90 degrees: about 15.7 units along the equator
+    near = [(13 * math.cos(0.08), 13 * math.sin(0.08), 0, 0, 0, 1)]  # about 1 unit away
+    with pytest.raises(sw.InputError, match="disabled"):
+        DesignSession(torus_surface, Design([MERIDIAN, far]))
+    banded = Design([MERIDIAN, far], options={"compatibility_band": 3.0})
+    ds = DesignSession(torus_surface, banded)
+    assert ds.native.strip_count == 2
+    assert ds.native.compatibility_band == pytest.approx(3.0)
+    p = ds.strip(1)["points"]
+    assert np.abs(np.arctan2(p[:, 1], p[:, 0]) - math.pi / 2).max() < 0.05  # a meridian at 90 degrees
+    with pytest.raises(sw.InputError, match="disabled"):
+        DesignSession(torus_surface, Design([MERIDIAN, near], options={"compatibility_band": 3.0}))
+    # The option round-trips through the design file; a bad value is named.
+    assert Design.from_dict(banded.to_dict()).options["compatibility_band"] == 3.0
+    with pytest.raises(sw.InputError, match="compatibility_band"):
+        Design.from_dict({"format": "stripweave-design", "version": 1, "strips": [],
+                          "options": {"compatibility_band": -1}})

@@ -116,6 +116,17 @@ void bind_design(py::module_& m) {
                                t["extraction"] = d.timings().extraction_ms;
                                return t;
                              })
+      .def_property(
+          "compatibility_band",
+          [](const DesignState& d) {
+            const double b = d.compatibility_band();
+            return std::isfinite(b) ? py::object(py::float_(b)) : py::object(py::none());
+          },
+          [](DesignState& d, py::object band) {
+            d.set_compatibility_band(band.is_none() ? std::numeric_limits<double>::infinity()
+                                                    : band.cast<double>());
+          },
+          "How far from its loop (model units) a strip refuses parallel loops; None: the whole strip (paper)")
       .def("disabled_nodes", &DesignState::disabled_nodes)
       .def("apply_mask", &DesignState::apply_mask,
            "Give the session the compatibility mask of every strip, for the next loop");

@@ -31,7 +31,10 @@ from ._native import native
 FORMAT = "stripweave-design"
 VERSION = 1
 DEFAULT_OPTIONS = {"k": 4, "max_turn_deg": 30, "alpha": 1.0, "beta": 0.25, "boundary": "aligned",
-                   "feature_angle_deg": 30}
+                   "feature_angle_deg": 30,
+                   # How far from its loop (model units) a strip refuses parallel loops; None is the
+                   # paper's whole strip (§6.2). A finite band allows denser layouts.
+                   "compatibility_band": None}
 # The options the loop search takes (the rest belong to the surface stage).
 LOOP_OPTIONS = ("k", "max_turn_deg", "alpha", "beta", "boundary")
 
@@ -148,6 +151,9 @@ class Design:
         boundary = options.get("boundary", DEFAULT_OPTIONS["boundary"])
         if boundary not in ("aligned", "trimmed"):
             raise _error("", f"options.boundary must be 'aligned' or 'trimmed', got {boundary!r}")
+        band = options.get("compatibility_band")
+        if band is not None and (isinstance(band, bool) or not isinstance(band, (int, float)) or band <= 0):
+            raise _error("", f"options.compatibility_band must be a positive length or null, got {band!r}")
         for key in ("k", "max_turn_deg", "alpha", "beta", "feature_angle_deg"):
             if key in options and not isinstance(options[key], (int, float)):
                 raise _error("", f"options.{key} must be a number, got {options[key]!r}")

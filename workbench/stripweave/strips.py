@@ -27,6 +27,7 @@ class DesignSession:
         self.loop_session = loop_session or LoopSession(surface, threads=threads, **self.design.loop_options())
         self.native = native.DesignState(self.loop_session.native, features,
                                          self.design.options["boundary"] == "aligned")
+        self.native.compatibility_band = self.design.options.get("compatibility_band")
         self.update()
 
     # --- editing -----------------------------------------------------------

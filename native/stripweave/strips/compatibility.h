@@ -9,15 +9,22 @@
 //   The set is closed under reversal (a node is disabled together with its
 //   reversed node): the mask stays symmetric, so a loop and its reversed copy
 //   are still both allowed or both forbidden.
+//   band (model units, as Strip::coords, default unbounded): only where the strip lies
+//   within this distance of its loop (|across| <= band at a corner of the
+//   vertex's covered triangles). The paper disables the whole strip; a
+//   bounded band lets a denser layout put parallel loops further away.
 //   Returned sorted, without repeats.
 #pragma once
 
 #include "stripweave/elastica/elastica_graph.h"
 #include "stripweave/strips/strip_extraction.h"
 
+#include <limits>
+
 namespace stripweave {
 
 std::vector<Index> incompatible_nodes(const Surface& surface, const ElasticaGraph& graph, const Strip& strip,
-                                      double max_angle_deg = 45.0);
+                                      double max_angle_deg = 45.0,
+                                      double band = std::numeric_limits<double>::infinity());
 
 }  // namespace stripweave

@@ -143,10 +143,18 @@ void DesignState::finish(const std::vector<LoopPath>& paths, double loops_ms) {
   for (size_t i = 0; i < strips_.size(); ++i) strips_[i].strip = std::move(all.strips[i]);
 }
 
+void DesignState::set_compatibility_band(double band) {
+  if (!(band > 0)) throw InputError("the compatibility band must be positive (or unbounded)");
+  if (band == band_) return;
+  band_ = band;
+  strips_.clear();  // every prefix mask depends on it
+  prefix_mask_.clear();
+}
+
 std::vector<Index> DesignState::mask_of(const std::vector<Strip>& strips) const {
   std::vector<Index> mask;
   for (const Strip& strip : strips) {
-    const std::vector<Index> nodes = incompatible_nodes(session_->surface(), session_->graph(), strip);
+    const std::vector<Index> nodes = incompatible_nodes(session_->surface(), session_->graph(), strip, 45.0, band_);
     mask.insert(mask.end(), nodes.begin(), nodes.end());
   }
   std::sort(mask.begin(), mask.end());

@@ -55,6 +55,12 @@ class DesignState {
   // The final solve and extraction over the whole design (not the prefixes).
   const DesignTimings& timings() const { return timings_; }
 
+  // How far from its loop a strip disables parallel directions (model
+  // units, as the strip coordinates; infinity, the default, is the paper's whole strip). Changing it
+  // re-derives every strip at the next set_strips.
+  void set_compatibility_band(double band);
+  double compatibility_band() const { return band_; }
+
   // The compatibility mask of all strips, sorted node ids.
   const std::vector<Index>& disabled_nodes() const { return mask_; }
   // Hand that mask to the session (replacing its mask), for new loops.
@@ -77,6 +83,7 @@ class DesignState {
 
   std::shared_ptr<LoopSession> session_;
   FieldOptions options_;
+  double band_ = std::numeric_limits<double>::infinity();
   std::vector<DesignStrip> strips_;
   std::vector<std::vector<Index>> prefix_mask_;  // [i]: the mask strip i's loop was searched under
   CrossField field_;

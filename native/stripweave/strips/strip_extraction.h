@@ -18,7 +18,7 @@
 //     covered[t]      1 if triangle t belongs to the strip
 //     triangles       the covered triangles, in conquest order
 //     coords[t][i]    strip coordinates (along, across) of corner i of a
-//                     covered triangle, normalized units: across is the
+//                     covered triangle, model units: across is the
 //                     signed distance from the loop, positive on its left
 //                     (normal x direction of travel); along grows with the
 //                     loop's direction of travel (on a closed loop it jumps
