@@ -81,16 +81,12 @@ def make_report(ds, layout, timings_ms):
             "timings_ms": {k: round(float(v), 1) for k, v in timings_ms.items()}}
 
 
-FIT_KEYS = ("max_deviation", "rms_deviation", "max_seam_gap", "max_seam_angle_deg")
-
-
 def _export_step(ds, tolerance, path):
     """Fit NURBS patches to the design's primal layout and write them as STEP (the surfacing
-    stage, native.refit). Returns the "fit" figures of report.json (model units)."""
-    if not hasattr(native, "refit") or not hasattr(ds.native, "patch_network"):
-        raise native.InputError("STEP export not available in this build")
-    fit = native.refit(ds.surface, ds.native.patch_network(), tolerance, path)
-    return {k: float(fit[k]) for k in FIT_KEYS}
+    stage). Returns the "fit" block of report.json (model units): design.md's max_deviation,
+    rms_deviation, max_seam_gap, max_seam_angle_deg, and per patch, tolerance, shell facts."""
+    from .surfacing import fit_report, refit_design
+    return fit_report(refit_design(ds, tolerance=tolerance, step_path=path))
 
 
 def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, features=True, boundary=None,

@@ -83,7 +83,8 @@ std::vector<SeedPoint> sample(const TriangleMesh& mesh, const Adjacency& topo, s
 
 }  // namespace
 
-std::vector<std::vector<SeedPoint>> region_seed_points(const LoopArrangement& A, const Regions& G, int count) {
+std::vector<std::vector<SeedPoint>> region_seed_points(const Surface& surface, const LoopArrangement& A,
+                                                       const Regions& G, int count) {
   const TriangleMesh& mesh = A.mesh;
   const MeshTopology& topo = A.topology;
   const Index nv = mesh.num_vertices();
@@ -93,6 +94,18 @@ std::vector<std::vector<SeedPoint>> region_seed_points(const LoopArrangement& A,
   for (Index e = 0; e < topo.num_edges(); ++e)
     if (A.separates(e))
       for (Index v : topo.edges[e]) on_border[v] = 1;
+  // Sharp feature curves repel seeds like the border: a loop started on a
+  // crease or at a corner runs along it or through the corner, where no
+  // primal vertex can go then. (Refined vertices are the surface's own, or
+  // lie inside a surface edge, or inside a triangle.)
+  const Index surface_vertices = surface.mesh.num_vertices();
+  for (Index e = 0; e < surface.topology.num_edges(); ++e)
+    if (surface.edge_class[e] == EdgeClass::Feature)
+      for (Index v : surface.topology.edges[e]) on_border[v] = 1;
+  for (Index v = surface_vertices; v < nv; ++v) {
+    const Index e = A.original_edge[v];
+    if (e != kInvalid && surface.edge_class[e] == EdgeClass::Feature) on_border[v] = 1;
+  }
   for (Index v = 0; v < nv; ++v)
     if (on_border[v]) border.push_back(v);
   const auto inside = [&A](Index e) { return !A.separates(e); };
@@ -179,6 +192,12 @@ UncoveredArea largest_uncovered_area(const Surface& surface,
   for (Index t = 0; t < nt; ++t)
     if (any[t])
       for (Index v : mesh.triangles[t]) is_source[v] = 1;
+  // Sharp feature curves and the open boundary repel seeds too: a loop
+  // started on a crease or at a corner (the first seed of an empty design
+  // would otherwise be any vertex) runs along it or through the corner,
+  // where no primal vertex can then go.
+  for (Index e = 0; e < topo.num_edges(); ++e)
+    if (surface.edge_class[e] != EdgeClass::Regular) is_source[topo.edges[e][0]] = is_source[topo.edges[e][1]] = 1;
   for (Index v = 0; v < nv; ++v)
     if (is_source[v]) sources.push_back(v);
   const auto all = [](Index) { return true; };
