@@ -6,7 +6,8 @@
 // region_seed_points(surface, arrangement, regions, count) -> per region, up
 //   to `count` points (normalized units) by farthest-point sampling inside
 //   the region: the first is the refined vertex farthest from the region's
-//   border (its loops, open boundary and sharp feature curves), i.e. its centre in the sense of
+//   border (its loops and open boundary; without any, its sharp feature
+//   curves), i.e. its centre in the sense of
 //   the largest inscribed geodesic disc; each next one is farthest from the
 //   border and the earlier ones. Distances are shortest paths along refined
 //   mesh edges that do not cross the border. A region without border (no
