@@ -88,7 +88,7 @@ void bind_weave(py::module_& m) {
           // Scoring a candidate needs neither seeds nor coverage (seeds_per_region = 0).
           seeds.resize(regions.regions.size());
           if (seeds_per_region > 0) {
-            seeds = region_seed_points(s, arrangement, regions, seeds_per_region);
+            seeds = region_seed_points(arrangement, regions, seeds_per_region);
             crossing = crossing_anchors(arrangement, regions);
             uncovered = largest_uncovered_area(s, covered);
           }

@@ -83,8 +83,7 @@ std::vector<SeedPoint> sample(const TriangleMesh& mesh, const Adjacency& topo, s
 
 }  // namespace
 
-std::vector<std::vector<SeedPoint>> region_seed_points(const Surface& surface, const LoopArrangement& A,
-                                                       const Regions& G, int count) {
+std::vector<std::vector<SeedPoint>> region_seed_points(const LoopArrangement& A, const Regions& G, int count) {
   const TriangleMesh& mesh = A.mesh;
   const MeshTopology& topo = A.topology;
   const Index nv = mesh.num_vertices();
@@ -107,40 +106,8 @@ std::vector<std::vector<SeedPoint>> region_seed_points(const Surface& surface, c
     if (r == kInvalid) continue;
     for (Index v : mesh.triangles[t]) members[r].push_back(v);
   }
-  // A region no loop bounds yet (a closed surface without strips) takes its
-  // distances from the sharp feature curves instead: otherwise any vertex
-  // would do, and a loop started on a crease or at a corner runs along it or
-  // through the corner, where no primal vertex can go then. (Only then: the
-  // creases of a coarse scan are unreliable and everywhere.)
-  std::vector<double> d_feature;
   std::vector<std::vector<SeedPoint>> out(G.regions.size());
-  for (size_t r = 0; r < members.size(); ++r) {
-    bool bordered = false;
-    for (Index v : members[r]) bordered |= std::isfinite(d[v]);
-    if (!bordered && !members[r].empty()) {
-      if (d_feature.empty()) {
-        d_feature.assign(nv, kInf);
-        const Index surface_vertices = surface.mesh.num_vertices();
-        std::vector<std::uint8_t> on_crease(nv, 0);
-        for (Index e = 0; e < surface.topology.num_edges(); ++e)
-          if (surface.edge_class[e] == EdgeClass::Feature)
-            for (Index v : surface.topology.edges[e]) on_crease[v] = 1;
-        for (Index v = surface_vertices; v < nv; ++v) {
-          const Index e = A.original_edge[v];
-          if (e != kInvalid && surface.edge_class[e] == EdgeClass::Feature) on_crease[v] = 1;
-        }
-        std::vector<Index> creases;
-        for (Index v = 0; v < nv; ++v)
-          if (on_crease[v]) creases.push_back(v);
-        relax_from(mesh, adj, creases, inside, d_feature);
-      }
-      std::vector<double> dr = d_feature;
-      out[r] = sample(mesh, adj, members[r], inside, dr, count);
-      for (SeedPoint& p : out[r]) p.clearance = kInf;  // still no border
-      continue;
-    }
-    out[r] = sample(mesh, adj, members[r], inside, d, count);
-  }
+  for (size_t r = 0; r < members.size(); ++r) out[r] = sample(mesh, adj, members[r], inside, d, count);
   return out;
 }
 
@@ -212,14 +179,6 @@ UncoveredArea largest_uncovered_area(const Surface& surface,
   for (Index t = 0; t < nt; ++t)
     if (any[t])
       for (Index v : mesh.triangles[t]) is_source[v] = 1;
-  // With nothing covered yet, sharp feature curves and the open boundary
-  // stand in: otherwise any vertex would do, and a loop started on a crease
-  // or at a corner runs along it or through the corner, where no primal
-  // vertex can go then. (Only then: the creases of a coarse scan are
-  // unreliable and everywhere.)
-  if (std::find(is_source.begin(), is_source.end(), 1) == is_source.end())
-    for (Index e = 0; e < topo.num_edges(); ++e)
-      if (surface.edge_class[e] != EdgeClass::Regular) is_source[topo.edges[e][0]] = is_source[topo.edges[e][1]] = 1;
   for (Index v = 0; v < nv; ++v)
     if (is_source[v]) sources.push_back(v);
   const auto all = [](Index) { return true; };

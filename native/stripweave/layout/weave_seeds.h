@@ -3,11 +3,10 @@
 // colours guide the user to regions that need strips); automatic weaving
 // asks the same questions of the geometry.
 //
-// region_seed_points(surface, arrangement, regions, count) -> per region, up
-//   to `count` points (normalized units) by farthest-point sampling inside
-//   the region: the first is the refined vertex farthest from the region's
-//   border (its loops and open boundary; without any, its sharp feature
-//   curves), i.e. its centre in the sense of
+// region_seed_points(arrangement, regions, count) -> per region, up to
+//   `count` points (normalized units) by farthest-point sampling inside the
+//   region: the first is the refined vertex farthest from the region's
+//   border (its loops and open boundary), i.e. its centre in the sense of
 //   the largest inscribed geodesic disc; each next one is farthest from the
 //   border and the earlier ones. Distances are shortest paths along refined
 //   mesh edges that do not cross the border. A region without border (no
@@ -42,8 +41,7 @@ struct SeedPoint {
   double clearance = std::numeric_limits<double>::infinity();
 };
 
-std::vector<std::vector<SeedPoint>> region_seed_points(const Surface& surface, const LoopArrangement& arrangement,
-                                                       const Regions& regions,
+std::vector<std::vector<SeedPoint>> region_seed_points(const LoopArrangement& arrangement, const Regions& regions,
                                                        int count);
 
 struct CrossingAnchor {
