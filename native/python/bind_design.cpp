@@ -42,7 +42,7 @@ py::dict strip_dict(const Surface& s, const DesignStrip& d) {
   // transitions (a check of exact alignment, model units).
   double across = 0;
   for (const PathSegment& seg : d.path.segments) {
-    if (d.strip.covered.empty() || !d.strip.covered[seg.triangle]) continue;
+    if (!d.strip.covered[seg.triangle]) continue;
     for (Index point : {seg.from, seg.to}) {
       const Vec3 b = barycentric_in(s, d.path.path, point, seg.triangle);
       const auto& c = d.strip.coords[seg.triangle];

@@ -74,18 +74,23 @@ struct DesignLayout {
   double layout_ms = 0;
 };
 
-DesignLayout design_layout(const DesignState& d, bool primal) {
-  const Surface& s = d.surface();
+// Arrangement and regions of embedded loops, and (primal) their quad layout.
+DesignLayout layout_of(const Surface& s, std::vector<LoopPath>& paths, const std::vector<Singularity>& singular,
+                       bool primal) {
   DesignLayout out;
-  std::vector<LoopPath> paths;
-  for (const DesignStrip& st : d.strips()) paths.push_back(st.path);
-  out.computed = compute(s, paths, d.field().singularities);
+  out.computed = compute(s, paths, singular);
   if (primal) {
     const auto t0 = Clock::now();
-    out.layout = build_quad_layout(s, out.computed.arrangement, out.computed.regions, d.field().singularities);
+    out.layout = build_quad_layout(s, out.computed.arrangement, out.computed.regions, singular);
     out.layout_ms = millis(t0, Clock::now());
   }
   return out;
+}
+
+DesignLayout design_layout(const DesignState& d, bool primal) {
+  std::vector<LoopPath> paths;
+  for (const DesignStrip& st : d.strips()) paths.push_back(st.path);
+  return layout_of(d.surface(), paths, d.field().singularities, primal);
 }
 
 py::dict layout_dict(const Surface& s, const std::vector<Singularity>& singular, const DesignLayout& dl,
@@ -218,10 +223,7 @@ void bind_layout(py::module_& m, py::class_<DesignState, std::shared_ptr<DesignS
         {
           py::gil_scoped_release release;
           std::vector<LoopPath> paths = embed_loops(session, loops);
-          dl.computed = compute(s, paths, singular);
-          const auto t0 = Clock::now();
-          dl.layout = build_quad_layout(s, dl.computed.arrangement, dl.computed.regions, singular);
-          dl.layout_ms = millis(t0, Clock::now());
+          dl = layout_of(s, paths, singular, true);
         }
         return layout_dict(s, singular, dl, details);
       },

@@ -197,6 +197,19 @@ def _input_error(text):
     return native.InputError(text)
 
 
+def _add_design_stage(sub, name, help, output, run):
+    """A subcommand that derives one stage of a design: MODEL --design D.json --out DIR."""
+    p = sub.add_parser(name, help=help)
+    p.add_argument("model")
+    p.add_argument("--design", metavar="D.json", required=True, help="the design file")
+    p.add_argument("--out", metavar="DIR", required=True, help=f"folder for {output}")
+    p.add_argument("--boundary", choices=("aligned", "trimmed"), default=None,
+                   help="override the design's boundary mode")
+    p.add_argument("--json", action="store_true", help="machine-readable summary")
+    _add_surface_options(p)
+    p.set_defaults(run=run)
+
+
 def build_parser():
     parser = argparse.ArgumentParser(prog="stripweave", description="Dual Strip Weaving quad layouts")
     sub = parser.add_subparsers(dest="command", required=True)
@@ -220,25 +233,10 @@ def build_parser():
     _add_surface_options(p)
     p.set_defaults(run=cmd_loop)
 
-    p = sub.add_parser("strips", help="cross field, parameterization and strips of a design (paper §6)")
-    p.add_argument("model")
-    p.add_argument("--design", metavar="D.json", required=True, help="the design file")
-    p.add_argument("--out", metavar="DIR", required=True, help="folder for strips.json")
-    p.add_argument("--boundary", choices=("aligned", "trimmed"), default=None,
-                   help="override the design's boundary mode")
-    p.add_argument("--json", action="store_true", help="machine-readable summary")
-    _add_surface_options(p)
-    p.set_defaults(run=cmd_strips)
-
-    p = sub.add_parser("layout", help="regions, assessment and primal quad layout of a design (paper §4.2, §7)")
-    p.add_argument("model")
-    p.add_argument("--design", metavar="D.json", required=True, help="the design file")
-    p.add_argument("--out", metavar="DIR", required=True, help="folder for layout.json")
-    p.add_argument("--boundary", choices=("aligned", "trimmed"), default=None,
-                   help="override the design's boundary mode")
-    p.add_argument("--json", action="store_true", help="machine-readable summary")
-    _add_surface_options(p)
-    p.set_defaults(run=cmd_layout)
+    _add_design_stage(sub, "strips", "cross field, parameterization and strips of a design (paper §6)",
+                      "strips.json", cmd_strips)
+    _add_design_stage(sub, "layout", "regions, assessment and primal quad layout of a design (paper §4.2, §7)",
+                      "layout.json", cmd_layout)
 
     p = sub.add_parser("weave", help="the main job: weave a quad layout (automatically) and write "
                                      "design.json, layout.json, report.json, preview.png")

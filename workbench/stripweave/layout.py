@@ -53,13 +53,6 @@ def compute_layout(design_session):
     return layout_json(design_session.native.layout())
 
 
-def compute_regions(design_session):
-    """The regions of a design's loops and their assessment, without primalization."""
-    raw = design_session.native.regions()
-    return {"regions": [_region(r) for r in raw["regions"]], "valid": bool(raw["valid"]),
-            "crossings": raw["crossings"], "timings_ms": {"regions": raw["time_ms"]}}
-
-
 def write_layout(result, path):
     """Write layout.json atomically (a reader never sees half a file)."""
     tmp = path + ".tmp"

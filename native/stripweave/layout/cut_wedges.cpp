@@ -36,28 +36,4 @@ Wedges cut_wedges(const TriangleMesh& m, const MeshTopology& topo, const std::fu
   return w;
 }
 
-Index cut_pieces(const MeshTopology& topo, Index nt, const std::function<bool(Index)>& is_cut,
-                 std::vector<Index>& piece) {
-  std::vector<Index> parent(nt);
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](Index x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
-  for (Index e = 0; e < topo.num_edges(); ++e) {
-    const auto& et = topo.edge_triangles[e];
-    if (et[1] == kInvalid || is_cut(e)) continue;
-    const Index a = find(et[0]), b = find(et[1]);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
-  piece.assign(nt, kInvalid);
-  Index count = 0;
-  for (Index t = 0; t < nt; ++t) {
-    const Index r = find(t);
-    if (piece[r] == kInvalid) piece[r] = count++;  // r <= t: a root is its piece's first triangle
-    piece[t] = piece[r];
-  }
-  return count;
-}
-
 }  // namespace stripweave

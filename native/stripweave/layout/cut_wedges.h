@@ -26,12 +26,6 @@ struct Wedges {
 
 Wedges cut_wedges(const TriangleMesh& mesh, const MeshTopology& topology, const std::function<bool(Index)>& is_cut);
 
-// The pieces of a mesh cut along a set of edges: per triangle its piece id,
-// numbered 0, 1, ... in the order of each piece's first triangle. Returns
-// the number of pieces.
-Index cut_pieces(const MeshTopology& topology, Index num_triangles, const std::function<bool(Index)>& is_cut,
-                 std::vector<Index>& piece);
-
 // The corner of triangle t at vertex v (0, 1, 2), or -1.
 inline int corner_of(const TriangleMesh& mesh, Index t, Index v) {
   const Tri& f = mesh.triangles[t];

@@ -66,7 +66,7 @@ void cut_primal_patches(const PrimalContext& ctx, QuadLayout& L) {
 
   // Pieces: triangles joined across uncut edges.
   std::vector<Index> piece;
-  cut_pieces(rt, nt, is_cut, piece);
+  triangle_components(rt, nt, piece, is_cut);
   // A piece is a patch through the crossing it holds.
   std::map<Index, Index> piece_patch;
   for (size_t k = 0; k < A.nodes.size(); ++k) {

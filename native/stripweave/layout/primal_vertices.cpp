@@ -15,6 +15,8 @@
 // farthest from the loops keeps the vertex well inside its corridor.
 #include "stripweave/layout/primalization.h"
 
+#include "stripweave/surface/angle_defects.h"
+
 #include <cmath>
 
 namespace stripweave {
@@ -23,22 +25,13 @@ namespace {
 
 constexpr double kCornerTurn = 30.0 * M_PI / 180.0;  // a boundary turning more than this is a corner
 
-double corner_angle(const Vec3& at, const Vec3& a, const Vec3& b) {
-  const Vec3 u = a - at, w = b - at;
-  return std::atan2(u.cross(w).norm(), u.dot(w));
-}
-
 // Per surface vertex: how much of a corner it is (0 if none). On the open
 // boundary the turn |pi - angle sum|; inside, where three or more sharp
 // feature edges meet, the angle defect |2 pi - angle sum| (a cube corner's
 // pi/2), at least a small positive amount so a flat junction still counts.
 std::vector<double> corner_strength(const Surface& s) {
   const Index nv = s.mesh.num_vertices();
-  std::vector<double> angle_sum(nv, 0.0);
-  for (const Tri& f : s.mesh.triangles)
-    for (int k = 0; k < 3; ++k)
-      angle_sum[f[k]] += corner_angle(s.mesh.positions[f[k]], s.mesh.positions[f[(k + 1) % 3]],
-                                      s.mesh.positions[f[(k + 2) % 3]]);
+  const std::vector<double> defect = angle_defects(s.mesh, s.topology);
   std::vector<int> features(nv, 0);
   std::vector<std::uint8_t> boundary(nv, 0);
   for (Index e = 0; e < s.topology.num_edges(); ++e) {
@@ -50,10 +43,9 @@ std::vector<double> corner_strength(const Surface& s) {
   std::vector<double> strength(nv, 0.0);
   for (Index v = 0; v < nv; ++v) {
     if (boundary[v]) {
-      const double turn = std::abs(M_PI - angle_sum[v]);
-      if (turn > kCornerTurn) strength[v] = turn;
+      if (std::abs(defect[v]) > kCornerTurn) strength[v] = std::abs(defect[v]);
     } else if (features[v] >= 3) {
-      strength[v] = std::max(std::abs(2 * M_PI - angle_sum[v]), 1e-3);
+      strength[v] = std::max(std::abs(defect[v]), 1e-3);
     }
   }
   return strength;

@@ -2,6 +2,7 @@
 #include "stripweave/layout/regions.h"
 
 #include "stripweave/layout/cut_wedges.h"
+#include "stripweave/surface/angle_defects.h"
 
 #include <algorithm>
 #include <cmath>
@@ -48,7 +49,7 @@ Regions compute_regions(const Surface& s, const LoopArrangement& A, const std::v
   const Index surface_vertices = s.mesh.num_vertices();
 
   // Components across edges that separate nothing.
-  const Index count = cut_pieces(rt, nt, [&](Index e) { return A.separates(e); }, out.triangle_region);
+  const Index count = triangle_components(rt, nt, out.triangle_region, [&](Index e) { return A.separates(e); });
   out.regions.resize(count);
   const auto& region = out.triangle_region;
   std::vector<Region>& R = out.regions;
@@ -106,14 +107,8 @@ Regions compute_regions(const Surface& s, const LoopArrangement& A, const std::v
   }
 
   // Total curvature: each surface vertex's angle defect, shared by angle.
-  std::vector<double> angle_sum(surface_vertices, 0.0), refined_sum(surface_vertices, 0.0);
-  std::vector<std::uint8_t> on_boundary(surface_vertices, 0);
-  for (Index e = 0; e < s.topology.num_edges(); ++e)
-    if (s.topology.is_boundary_edge(e)) on_boundary[s.topology.edges[e][0]] = on_boundary[s.topology.edges[e][1]] = 1;
-  for (const Tri& f : s.mesh.triangles)
-    for (int k = 0; k < 3; ++k)
-      angle_sum[f[k]] += corner_angle(s.mesh.positions[f[k]], s.mesh.positions[f[(k + 1) % 3]],
-                                      s.mesh.positions[f[(k + 2) % 3]]);
+  const std::vector<double> vertex_defect = angle_defects(s.mesh, s.topology);
+  std::vector<double> refined_sum(surface_vertices, 0.0);
   std::vector<double> angles(3 * static_cast<size_t>(nt), 0.0);
   for (Index t = 0; t < nt; ++t) {
     const Tri& f = m.triangles[t];
@@ -138,9 +133,8 @@ Regions compute_regions(const Surface& s, const LoopArrangement& A, const std::v
     for (int k = 0; k < 3; ++k) {
       const Index v = f[k];
       if (v >= surface_vertices || refined_sum[v] <= 0) continue;
-      const double defect = (on_boundary[v] ? M_PI : 2 * M_PI) - angle_sum[v];
       const double share = angles[3 * t + k] / refined_sum[v];
-      R[region[t]].total_curvature += defect * share;
+      R[region[t]].total_curvature += vertex_defect[v] * share;
       if (singular_slot[v] != kInvalid) {
         auto& shares = singular_share[singular_slot[v]];
         auto it = std::find_if(shares.begin(), shares.end(), [&](const auto& x) { return x.first == region[t]; });

@@ -67,6 +67,8 @@
 // so the indices sum to chi exactly (Poincaré-Hopf).
 #include "stripweave/strips/cross_field.h"
 
+#include "stripweave/surface/angle_defects.h"
+
 #include "stripweave/core/error.h"
 
 #include <Eigen/SparseCholesky>
@@ -146,25 +148,6 @@ Complex fourth_power(Complex z) {
 // by the length of d's tangential part.
 Complex representation(const TriangleFrames& fr, Index t, const Vec3& d) {
   return fourth_power(fr.complex(t, d - fr.n[t] * fr.n[t].dot(d)));
-}
-
-// The angle defect of every vertex: 2 pi (pi on an open boundary) minus the
-// angles of its corners. Each triangle's three angles are made to sum to pi
-// exactly, so the defects sum to 2 pi chi even over degenerate triangles.
-std::vector<double> angle_defects(const Surface& s, const std::vector<std::uint8_t>& on_boundary) {
-  const auto& P = s.mesh.positions;
-  std::vector<double> defect(P.size());
-  for (size_t v = 0; v < P.size(); ++v) defect[v] = on_boundary[v] ? kPi : 2 * kPi;
-  for (const Tri& f : s.mesh.triangles) {
-    double angle[3], sum = 0;
-    for (int k = 0; k < 3; ++k) {
-      const Vec3 a = P[f[(k + 1) % 3]] - P[f[k]], b = P[f[(k + 2) % 3]] - P[f[k]];
-      angle[k] = std::atan2(a.cross(b).norm(), a.dot(b));
-      sum += angle[k];
-    }
-    for (int k = 0; k < 3; ++k) defect[f[k]] -= angle[k] + (kPi - sum) / 3;
-  }
-  return defect;
 }
 
 // The principal-direction cross of triangle t as a representation vector of
@@ -404,7 +387,7 @@ CrossField compute_cross_field(const Surface& surface, const std::vector<FieldCo
   std::vector<std::uint8_t> on_boundary(nv, 0);
   for (Index e = 0; e < ne; ++e)
     if (topo.is_boundary_edge(e)) on_boundary[topo.edges[e][0]] = on_boundary[topo.edges[e][1]] = 1;
-  std::vector<double> turning = angle_defects(surface, on_boundary);
+  std::vector<double> turning = angle_defects(surface.mesh, surface.topology);
   field.matching.assign(ne, 0);
   for (Index e = 0; e < ne; ++e) {
     if (topo.is_boundary_edge(e)) continue;

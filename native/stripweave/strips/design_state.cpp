@@ -54,7 +54,6 @@ void DesignState::set_strips(const std::vector<StripSpec>& specs) {
   while (keep < specs.size() && keep < strips_.size() && specs[keep] == strips_[keep].spec) ++keep;
   const size_t derived = strips_.size();  // mask_ is the mask of these strips (finish())
   strips_.resize(keep);
-  prefix_mask_.resize(keep);
 
   double loops_ms = 0;
   std::vector<LoopPath> paths;
@@ -65,13 +64,11 @@ void DesignState::set_strips(const std::vector<StripSpec>& specs) {
   auto fail = [&](size_t failing, const std::string& what) {
     session_->clear_disabled();
     strips_.resize(failing);
-    prefix_mask_.resize(failing);
     paths.resize(failing);
     try {
       finish(paths, loops_ms);
     } catch (const InputError&) {
       strips_.clear();
-      prefix_mask_.clear();
       paths.clear();
       finish(paths, 0);
     }
@@ -106,6 +103,13 @@ void DesignState::set_strips(const std::vector<StripSpec>& specs) {
       if (found.empty()) throw InputError("no loop can pass its anchors with the current constraints");
     } catch (const InputError& e) {
       fail(i, e.what());
+    } catch (...) {
+      // Cancelled (or worse): the same consistent prefix, the error as it was.
+      session_->clear_disabled();
+      strips_.resize(i);
+      paths.resize(i);
+      finish(paths, loops_ms);
+      throw;
     }
     clock.lap("loop");
     loops_ms += laps.back().second;
@@ -115,7 +119,6 @@ void DesignState::set_strips(const std::vector<StripSpec>& specs) {
     d.path = loop_path(*session_, d.loop);
     paths.push_back(d.path);
     strips_.push_back(std::move(d));
-    prefix_mask_.push_back(std::move(mask));
   }
   session_->clear_disabled();
   try {
@@ -148,7 +151,6 @@ void DesignState::set_compatibility_band(double band) {
   if (band == band_) return;
   band_ = band;
   strips_.clear();  // every prefix mask depends on it
-  prefix_mask_.clear();
 }
 
 std::vector<Index> DesignState::mask_of(const std::vector<Strip>& strips) const {

@@ -85,7 +85,6 @@ class DesignState {
   FieldOptions options_;
   double band_ = std::numeric_limits<double>::infinity();
   std::vector<DesignStrip> strips_;
-  std::vector<std::vector<Index>> prefix_mask_;  // [i]: the mask strip i's loop was searched under
   CrossField field_;
   Parameterization param_;
   DesignTimings timings_;

@@ -82,6 +82,11 @@ MeshTopology MeshTopology::build(const TriangleMesh& mesh) {
 }
 
 Index triangle_components(const MeshTopology& topo, Index num_triangles, std::vector<Index>& component) {
+  return triangle_components(topo, num_triangles, component, [](Index) { return false; });
+}
+
+Index triangle_components(const MeshTopology& topo, Index num_triangles, std::vector<Index>& component,
+                          const std::function<bool(Index)>& is_cut) {
   component.assign(num_triangles, kInvalid);
   Index count = 0;
   std::vector<Index> stack;
@@ -92,12 +97,14 @@ Index triangle_components(const MeshTopology& topo, Index num_triangles, std::ve
     while (!stack.empty()) {
       const Index t = stack.back();
       stack.pop_back();
-      for (Index e : topo.triangle_edges[t])
+      for (Index e : topo.triangle_edges[t]) {
+        if (is_cut(e)) continue;
         for (Index n : topo.edge_triangles[e])
           if (n != kInvalid && component[n] == kInvalid) {
             component[n] = count;
             stack.push_back(n);
           }
+      }
     }
     ++count;
   }

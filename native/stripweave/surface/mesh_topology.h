@@ -14,6 +14,7 @@
 
 #include "stripweave/surface/triangle_mesh.h"
 
+#include <functional>
 #include <unordered_map>
 
 namespace stripweave {
@@ -53,6 +54,12 @@ inline std::uint64_t pack_edge(const EdgeKey& k) {
 // Connected components over shared edges: per triangle, its component id
 // (0..count-1). Returns count.
 Index triangle_components(const MeshTopology& topo, Index num_triangles, std::vector<Index>& component);
+
+// The same, not crossing the edges for which is_cut holds (the pieces of a
+// mesh cut along loops, primal edges, ...). Numbered in the order of each
+// piece's first triangle, like triangle_components.
+Index triangle_components(const MeshTopology& topo, Index num_triangles, std::vector<Index>& component,
+                          const std::function<bool(Index)>& is_cut);
 
 // Boundary loops as closed vertex chains (first vertex not repeated),
 // oriented like the triangles they bound.
