@@ -116,6 +116,15 @@ void bind_design(py::module_& m) {
                                t["extraction"] = d.timings().extraction_ms;
                                return t;
                              })
+      // The parameterization's own steps (cut and comb, energy and
+      // constraints, elimination order, KKT system, factorization, solve,
+      // output), for profiling.
+      .def_property_readonly("parameterization_timings_ms",
+                             [](const DesignState& d) {
+                               py::dict t;
+                               for (const auto& [name, ms] : d.parameterization().timings) t[py::str(name)] = ms;
+                               return t;
+                             })
       .def_property(
           "compatibility_band",
           [](const DesignState& d) {

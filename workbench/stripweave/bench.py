@@ -113,9 +113,12 @@ def bench_strips(surface, loop_session=None, strips=6, repeat=3, seed=3):
         except native.InputError:
             pass
     field, param, extraction, regions, layout = [], [], [], [], []
+    steps = {}
     for _ in range(max(1, repeat)):
         session.native.set_strips(session.design.anchor_lists())
         t = session.timings_ms()
+        for name, ms in session.native.parameterization_timings_ms.items():
+            steps.setdefault(name, []).append(ms)
         field.append(t["field"])
         param.append(t["parameterization"] + t["extraction"])
         extraction.append(t["extraction"])
@@ -134,6 +137,9 @@ def bench_strips(surface, loop_session=None, strips=6, repeat=3, seed=3):
         "field_ms": summary(field),
         "param_ms": summary(param),
         "extraction_ms": summary(extraction),
+        # Where the parameterization's time goes (medians): cut and comb, energy and
+        # constraints, elimination order, KKT system, factorization, solve, output.
+        "param_steps_ms": {name: round(statistics.median(ms), 2) for name, ms in steps.items()},
         # The arrangement and regions of the design's loops, and primalization (only for a
         # valid design: otherwise layout_ms times the check alone).
         "design_valid": bool(raw["valid"]),

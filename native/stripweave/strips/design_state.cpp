@@ -35,7 +35,8 @@ DesignState::Solved DesignState::solve(const std::vector<LoopPath>& paths, Desig
   Stopwatch clock(laps);
   out.field = compute_cross_field(s, loop_constraints(segments), options_);
   clock.lap("field");
-  out.param = parameterize(s, out.field, paths);
+  if (vertex_order_.empty()) vertex_order_ = vertex_elimination_order(s);
+  out.param = parameterize(s, out.field, paths, vertex_order_);
   clock.lap("parameterization");
   for (Index l = 0; l < static_cast<Index>(paths.size()); ++l)
     out.strips.push_back(extract_strip(s, out.field, out.param, paths, l));

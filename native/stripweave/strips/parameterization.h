@@ -51,9 +51,10 @@
 // are homogeneous and such a design collapses S rather than leaving a
 // residual) or are violated by more than 1e-9 after the solve.
 // Cost: one sparse LDL^T factorization of 2 x (vertices + cut vertices)
-// unknowns plus one row per constraint dominates; at 30K triangles on one
-// core about 70 ms (torus, no singularity) to 100 ms (sphere or spot with
-// 8 to 80 singularities) in all.
+// unknowns plus one row per constraint dominates, in the surface's nested
+// dissection order (vertex_elimination_order, computed once per surface);
+// at 30K triangles on one core about 100 ms of some 140 ms in all (shared
+// models with 8 strips and 60 to 130 singularities).
 #pragma once
 
 #include "stripweave/strips/cross_field.h"
@@ -89,6 +90,14 @@ struct Parameterization {
   StageTimings timings;
 };
 
-Parameterization parameterize(const Surface& surface, const CrossField& field, const std::vector<LoopPath>& loops);
+// The elimination order the factorization follows: the surface's vertices
+// in nested dissection order (sparse/nested_dissection.h). It depends on the
+// mesh alone, so a caller that solves S for many designs on one surface
+// (DesignState) computes it once and passes it in; left empty, parameterize
+// computes it.
+std::vector<int> vertex_elimination_order(const Surface& surface);
+
+Parameterization parameterize(const Surface& surface, const CrossField& field, const std::vector<LoopPath>& loops,
+                              const std::vector<int>& vertex_order = {});
 
 }  // namespace stripweave

@@ -1,0 +1,24 @@
+// nested_dissection_order: a fill-reducing elimination order of a sparse
+// symmetric matrix, given by its graph (METIS's multilevel nested
+// dissection, behind this adapter).
+//
+// nested_dissection_order(adjacency) -> order
+//   Input : the graph of the matrix, one list of neighbours per node
+//           (symmetric: j in adjacency[i] iff i in adjacency[j]; no self
+//           loops; duplicates allowed).
+//   Output: order[k] = the node eliminated k-th (a permutation of 0..n-1).
+// Why nested dissection rather than minimum degree: on the meshes S is solved
+// on (2D graphs of 10^4 to 10^5 nodes) its separators give a factorization
+// with markedly fewer flops than AMD (the parameterization's factorization
+// at 30K triangles: roughly 40% less), and on the wedge graph it costs no
+// more than AMD on the unknowns' graph. Deterministic: METIS runs with a
+// fixed seed.
+#pragma once
+
+#include <vector>
+
+namespace stripweave {
+
+std::vector<int> nested_dissection_order(const std::vector<std::vector<int>>& adjacency);
+
+}  // namespace stripweave
