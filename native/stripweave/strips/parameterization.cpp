@@ -43,6 +43,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -472,15 +473,20 @@ Parameterization parameterize(const Surface& surface, const CrossField& field, c
   lap("factorization");
 
   // Solve, then refine against the system without regularization until the
-  // residual is at rounding level (usually one step).
+  // residual is at rounding level (usually one step), or stops shrinking
+  // (rounding in the factors sets a floor near 1e-12; a step that does not
+  // halve the residual only costs a solve).
   Eigen::VectorXd x = ldlt.solve(b);
   Eigen::VectorXd is_row = Eigen::VectorXd::Zero(N);
   for (Index c = 0; c < n_rows; ++c) is_row[position[n_primal + c]] = 1;
   const double b_norm = std::max(b.lpNorm<Eigen::Infinity>(), 1e-300);
+  double previous = std::numeric_limits<double>::infinity();
   for (int step = 0; step < 3; ++step) {
     Eigen::VectorXd residual = b - K.selfadjointView<Eigen::Lower>() * x;
     residual -= kRegularization * is_row.cwiseProduct(x);  // undo -d on the constraint block
-    if (residual.lpNorm<Eigen::Infinity>() <= 1e-12 * b_norm) break;
+    const double r = residual.lpNorm<Eigen::Infinity>();
+    if (r <= 1e-12 * b_norm || !(r < 0.5 * previous)) break;
+    previous = r;
     x += ldlt.solve(residual);
   }
   lap("solve");
