@@ -74,6 +74,35 @@ def capped_cylinder(r=5.0, h=20.0):
     return Part.makeCylinder(r, h)
 
 
+def bumpy_sphere_mesh(R=5.0, subdivisions=4):
+    """An organic closed triangle mesh (vertices, triangles): an icosphere of radius R whose
+    radius is modulated by smooth bumps (+-15%), like a scanned blob. Genus 0."""
+    t = (1 + 5 ** 0.5) / 2
+    v = [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t),
+         (0, -1, -t), (0, 1, -t), (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1)]
+    f = [(0, 11, 5), (0, 5, 1), (0, 1, 7), (0, 7, 10), (0, 10, 11), (1, 5, 9), (5, 11, 4),
+         (11, 10, 2), (10, 7, 6), (7, 1, 8), (3, 9, 4), (3, 4, 2), (3, 2, 6), (3, 6, 8),
+         (3, 8, 9), (4, 9, 5), (2, 4, 11), (6, 2, 10), (8, 6, 7), (9, 8, 1)]
+    verts = [np.array(p, float) / np.linalg.norm(p) for p in v]
+    for _ in range(subdivisions):
+        midpoint, faces = {}, []
+
+        def mid(a, b):
+            key = (min(a, b), max(a, b))
+            if key not in midpoint:
+                m = verts[a] + verts[b]
+                verts.append(m / np.linalg.norm(m))
+                midpoint[key] = len(verts) - 1
+            return midpoint[key]
+        for a, b, c in f:
+            ab, bc, ca = mid(a, b), mid(b, c), mid(c, a)
+            faces += [(a, ab, ca), (b, bc, ab), (c, ca, bc), (ab, bc, ca)]
+        f = faces
+    u = np.array(verts)
+    bumps = 1 + 0.15 * np.sin(3 * u[:, 0] + 1) * np.sin(2 * u[:, 1]) * np.cos(4 * u[:, 2] - 0.5)
+    return R * u * bumps[:, None], np.array(f, dtype=np.int64)
+
+
 def winding_numbers(points, R=10.0):
     """(around the torus axis, around the tube) of a closed polyline on a torus centred at the origin."""
     p = np.asarray(points)
