@@ -3,7 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <stdexcept>
+#include <thread>
 
 namespace stripweave {
 
@@ -134,12 +136,16 @@ void SupernodalLdlt::compute(const SparseMatrix& given) {
     std::sort(S.rows.begin() + S.width, S.rows.end());
   }
 
-  // Numeric factorization, front by front.
+  // Numeric factorization, front by front. Fronts in disjoint subtrees of
+  // the elimination tree are independent (a front needs only its children's
+  // Schur complements), and nested dissection makes the tree split early
+  // into two halves of similar work: those run on two threads, then the
+  // fronts above them on this one. Each front's arithmetic is the same
+  // whichever thread runs it, so the factors do not depend on the threads.
   d_.resize(n_);
   std::vector<Eigen::MatrixXd> schur(ns);
-  std::vector<int> local(n_), index;
-  constexpr int kBlock = 32;
-  for (int s = 0; s < ns; ++s) {
+  auto factor_front = [&](int s, std::vector<int>& local, std::vector<int>& index) {
+    constexpr int kBlock = 32;
     Supernode& S = supernodes_[s];
     const int h = static_cast<int>(S.rows.size()), w = S.width;
     for (int a = 0; a < h; ++a) local[S.rows[a]] = a;
@@ -179,7 +185,71 @@ void SupernodalLdlt::compute(const SparseMatrix& given) {
     }
     S.L = F.leftCols(w);
     if (h > w) schur[s] = F.bottomRightCorner(h - w, h - w);
+  };
+
+  // Work per subtree (its fronts' h^2 w) and where it starts: in postorder
+  // the subtree of front s is the range [first[s], s].
+  std::vector<double> work(ns);
+  std::vector<int> first(ns), front_parent(ns, -1);
+  for (int s = 0; s < ns; ++s) {
+    const double h = static_cast<double>(supernodes_[s].rows.size());
+    work[s] = h * h * supernodes_[s].width;
+    first[s] = s;
+    for (int c : kids[s]) work[s] += work[c], first[s] = std::min(first[s], first[c]), front_parent[c] = s;
   }
+  double total = 0;
+  for (int s = 0; s < ns; ++s)
+    if (front_parent[s] < 0) total += work[s];
+  auto run_subtree = [&](int root, std::vector<int>& local, std::vector<int>& index) {
+    for (int s = first[root]; s <= root; ++s) factor_front(s, local, index);
+  };
+  std::vector<int> local(n_), index;
+  constexpr double kParallelWork = 2e7;  // below this a thread costs more than it saves
+  if (total < kParallelWork || std::thread::hardware_concurrency() < 2) {
+    for (int s = 0; s < ns; ++s) factor_front(s, local, index);
+    return;
+  }
+  // Split the heaviest subtree while it holds more than half the work; its
+  // own front waits for the second phase.
+  std::vector<int> frontier, top;
+  for (int s = 0; s < ns; ++s)
+    if (front_parent[s] < 0) frontier.push_back(s);
+  for (;;) {
+    auto heaviest = std::max_element(frontier.begin(), frontier.end(), [&](int a, int b) { return work[a] < work[b]; });
+    if (work[*heaviest] <= 0.55 * total || kids[*heaviest].empty()) break;
+    const int s = *heaviest;
+    frontier.erase(heaviest);
+    top.push_back(s);
+    frontier.insert(frontier.end(), kids[s].begin(), kids[s].end());
+  }
+  // Two bins of subtrees, heaviest first into the lighter bin.
+  std::sort(frontier.begin(), frontier.end(), [&](int a, int b) { return work[a] > work[b] || (work[a] == work[b] && a < b); });
+  std::vector<int> bin[2];
+  double load[2] = {0, 0};
+  for (int s : frontier) {
+    const int b = load[0] <= load[1] ? 0 : 1;
+    bin[b].push_back(s), load[b] += work[s];
+  }
+  Eigen::initParallel();
+  std::exception_ptr failed;
+  std::thread helper([&] {
+    try {
+      std::vector<int> helper_local(n_), helper_index;
+      for (int root : bin[1]) run_subtree(root, helper_local, helper_index);
+    } catch (...) {
+      failed = std::current_exception();
+    }
+  });
+  try {
+    for (int root : bin[0]) run_subtree(root, local, index);
+  } catch (...) {
+    helper.join();
+    throw;
+  }
+  helper.join();
+  if (failed) std::rethrow_exception(failed);
+  std::sort(top.begin(), top.end());  // postorder: children first
+  for (int s : top) factor_front(s, local, index);
 }
 
 Eigen::VectorXd SupernodalLdlt::solve(const Eigen::VectorXd& b) const {
