@@ -4,6 +4,7 @@
 #include "stripweave/occt/brep_source.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace stripweave {
@@ -24,19 +25,34 @@ Vec3 SourceProjector::fallback(const Vec3& p) const { return locator_ ? locator_
 
 Vec3 SourceProjector::on_faces(const std::vector<Index>& faces, const Vec3& p) const {
   if (!brep_) return fallback(p);
-  Vec3 best = p;
-  double best_d = std::numeric_limits<double>::infinity();
+  Vec3 best = p, best_inside = p;
+  double best_d = std::numeric_limits<double>::infinity(), best_inside_d = best_d;
+  // One face: its untrimmed surface (the smooth continuation past the
+  // border). Several (a sample by a face border): the nearest foot point
+  // that lies within its face's trim; the nearest untrimmed one may lie on
+  // a face's continuation beyond a crease, off the part altogether (the
+  // chordal mesh cuts a convex crease, and the far face's continuation is
+  // nearer than the face the point belongs to).
+  const bool trimmed = faces.size() > 1;
   for (Index f : faces) {
     if (f < 0 || f >= brep_->num_faces()) continue;
     double d;
-    const Vec3 q = brep_->project_to_face(f, p, &d, edge_snap_);
+    bool inside = true;
+    const Vec3 q = brep_->project_to_face(f, p, &d, edge_snap_, trimmed ? &inside : nullptr);
     if (d < best_d) best_d = d, best = q;
+    if (inside && d < best_inside_d) best_inside_d = d, best_inside = q;
   }
-  return best;
+  if (!trimmed || best_inside_d == best_d) return best;
+  // No foot point inside (the sample faces the crease itself from the
+  // convex side): the nearest point of the faces' B-rep edges, if nearer
+  // than any foot point inside.
+  double edge_d;
+  const Vec3 on_edge = nearest_on_edges(faces, p, &edge_d);
+  if (edge_d < best_inside_d) return on_edge;
+  return std::isfinite(best_inside_d) ? best_inside : best;
 }
 
-Vec3 SourceProjector::on_sharp(const std::vector<Index>& faces, const Vec3& p) const {
-  if (!brep_) return fallback(p);
+Vec3 SourceProjector::nearest_on_edges(const std::vector<Index>& faces, const Vec3& p, double* distance) const {
   std::vector<Index> edges;
   for (Index f : faces) {
     if (f < 0 || f >= brep_->num_faces()) continue;
@@ -52,7 +68,15 @@ Vec3 SourceProjector::on_sharp(const std::vector<Index>& faces, const Vec3& p) c
     const Vec3 q = brep_->project_to_edge(e, p, &d);
     if (d < best_d) best_d = d, best = q;
   }
-  return best_d <= edge_snap_ ? best : on_faces(faces, p);
+  *distance = best_d;
+  return best;
+}
+
+Vec3 SourceProjector::on_sharp(const std::vector<Index>& faces, const Vec3& p) const {
+  if (!brep_) return fallback(p);
+  double d;
+  const Vec3 q = nearest_on_edges(faces, p, &d);
+  return d <= edge_snap_ ? q : on_faces(faces, p);
 }
 
 }  // namespace stripweave

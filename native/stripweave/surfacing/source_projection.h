@@ -9,10 +9,14 @@
 //         a chordal approximation of the source. Each sample knows the
 //         B-rep faces it may lie on (the source_face of the patch triangles
 //         around it), so
-//           on_faces(F, p)  the nearest of the faces' surfaces to p
+//           on_faces(F, p)  one face: the nearest point of its surface
 //                           (BrepSource::project_to_face, untrimmed: a
 //                           sample near a face border stays on the smooth
-//                           continuation of its own face);
+//                           continuation of its own face); several (a
+//                           sample by a face border): the nearest foot
+//                           point within its face's trim, else the nearest
+//                           point of the faces' edges (never a face's
+//                           continuation past a crease, off the part);
 //           on_sharp(F, p)  the nearest point of the B-rep edges bounding
 //                           the faces F when one is within the snap distance
 //                           (a sharp layout edge runs along a B-rep edge),
@@ -41,6 +45,7 @@ class SourceProjector {
 
  private:
   Vec3 fallback(const Vec3& p) const;
+  Vec3 nearest_on_edges(const std::vector<Index>& faces, const Vec3& p, double* distance) const;
   const BrepSource* brep_ = nullptr;
   std::unique_ptr<SurfaceLocator> locator_;
   double edge_snap_;
