@@ -2,6 +2,7 @@
 
 #include "stripweave/core/error.h"
 #include "stripweave/surfacing/edge_curves.h"
+#include "stripweave/surfacing/patch_creases.h"
 #include "stripweave/surfacing/patch_fit.h"
 #include "stripweave/surfacing/patch_parameterization.h"
 #include "stripweave/surfacing/patch_shell.h"
@@ -78,7 +79,7 @@ void measure(const std::vector<BSplinePatch>& patches, Index p, const std::vecto
   double worst = 0, sum2 = 0;
   for (size_t k = 0; k < s.points.size(); ++k) {
     const double d = distance_to_network(patches, p, neighbours, s.points[k], s.uv[k], enough);
-    worst = std::max(worst, d);
+    if (d > worst) worst = d, fig.worst_uv = s.uv[k];
     sum2 += d * d;
   }
   fig.max_deviation = worst;
@@ -395,7 +396,7 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
       want[r] = std::max(want[r], m);
     };
     for (Index e = 0; e < nE; ++e)
-      if (edge_dev[e] > tol) ask(e, edge_dev[e]);
+      if (edge_dev[e] > tol && !uses[e].empty()) ask(e, edge_dev[e]);
     for (Index p = 0; p < nP; ++p)
       if (report.per_patch[p].max_deviation > tol)
         for (int s = 0; s < 2; ++s) ask(network.patches[p].edges[s], report.per_patch[p].max_deviation);
@@ -512,16 +513,47 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
   watch.lap("fit");
 
   // --- 5. report ------------------------------------------------------------
+  // Per patch: its edge curves, creases of the layout under it, and where
+  // the fit turns its back on the source (patch_creases.h).
+  for (Index p = 0; p < nP; ++p) {
+    const NetworkPatch& P = network.patches[p];
+    PatchFitFigures& f = report.per_patch[p];
+    for (Index e : P.edges) f.side_deviation = std::max(f.side_deviation, edge_dev[e]);
+    const PatchCreases c = patch_creases(P.mesh, options.crease_angle_deg);
+    f.crease_deg = c.max_dihedral_deg, f.crease_edges = c.crease_edges, f.crease_length = c.crease_length;
+    // Centroid samples follow the vertex samples, one per triangle.
+    const TriangleMesh& m = moved[p].num_vertices() ? moved[p] : P.mesh;
+    const Index nv = m.num_vertices();
+    double flipped = 0, area = 0;
+    for (Index t = 0; t < m.num_triangles() && nv + t < Index(samples[p].uv.size()); ++t) {
+      const Vec3 n = triangle_normal_area2(m, t);
+      const Vec2& uv = samples[p].uv[nv + t];
+      area += n.norm();
+      if (result.surfaces[p].normal(uv.x(), uv.y()).dot(n) < 0) flipped += n.norm();
+    }
+    f.flipped_fraction = area > 0 ? flipped / area : 0;
+    report.creased_patches += f.creased();
+    report.folded_patches += f.folded();
+  }
+
   double sum2 = 0;
   Index count = 0;
+  double uncreased_edges = 0;
   for (const PatchFitFigures& f : report.per_patch) {
     report.max_deviation = std::max(report.max_deviation, f.max_deviation);
     sum2 += f.rms_deviation * f.rms_deviation * f.samples;
     count += f.samples;
+    if (f.creased()) continue;
+    report.max_deviation_uncreased = std::max(report.max_deviation_uncreased, f.max_deviation);
+    uncreased_edges = std::max(uncreased_edges, f.side_deviation);
   }
   report.rms_deviation = count ? std::sqrt(sum2 / count) : 0;
-  for (double d : edge_dev) report.max_edge_deviation = std::max(report.max_edge_deviation, d);
+  // Edges no patch uses (their patches were left out of the network) say
+  // nothing about the fitted shell.
+  for (Index e = 0; e < nE; ++e)
+    if (!uses[e].empty()) report.max_edge_deviation = std::max(report.max_edge_deviation, edge_dev[e]);
   report.tolerance_met = report.max_deviation <= tol && report.max_edge_deviation <= tol;
+  report.tolerance_met_uncreased = report.max_deviation_uncreased <= tol && uncreased_edges <= tol;
 
   // Regular vertices: exactly 4 smooth seams meet there.
   std::vector<Index> valence(nV, 0);
