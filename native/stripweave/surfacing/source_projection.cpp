@@ -57,10 +57,19 @@ Vec3 SourceProjector::nearest_on_edges(const std::vector<Index>& faces, const Ve
   for (Index f : faces) {
     if (f < 0 || f >= brep_->num_faces()) continue;
     if (!face_edges_known_[f]) face_edges_[f] = brep_->face_edges(f), face_edges_known_[f] = true;
-    edges.insert(edges.end(), face_edges_[f].begin(), face_edges_[f].end());
+    std::vector<Index> own = face_edges_[f];
+    std::sort(own.begin(), own.end());
+    own.erase(std::unique(own.begin(), own.end()), own.end());
+    edges.insert(edges.end(), own.begin(), own.end());
   }
   std::sort(edges.begin(), edges.end());
+  // Edges two of the faces share (the crease between them) first: far
+  // fewer curve projections than every edge of every face.
+  std::vector<Index> shared;
+  for (size_t k = 1; k < edges.size(); ++k)
+    if (edges[k] == edges[k - 1] && (shared.empty() || shared.back() != edges[k])) shared.push_back(edges[k]);
   edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  if (!shared.empty()) edges = std::move(shared);
   Vec3 best = p;
   double best_d = std::numeric_limits<double>::infinity();
   for (Index e : edges) {
