@@ -47,6 +47,11 @@ void sort_unique(std::vector<Index>& v) {
   v.erase(std::unique(v.begin(), v.end()), v.end());
 }
 
+void sort_unique_keys(std::vector<EdgeKey>& v) {
+  std::sort(v.begin(), v.end());
+  v.erase(std::unique(v.begin(), v.end()), v.end());
+}
+
 // Orthogonal deviation of the samples from the fitted network: the own
 // patch, and where the foot point lands on its border (the sample may lie
 // beyond the smooth edge curve, on the neighbour's side of a zig-zag mesh
@@ -269,39 +274,71 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
     moved[p] = std::move(m);
   }
 
+  // Each patch's samples are projected in breadth-first order over its
+  // mesh (a vertex, then the triangles and edges it opens), so consecutive
+  // projections onto a face are neighbours: the local Newton from the
+  // previous foot point (BrepSource::project_to_face with `near`) then
+  // converges, where the index order sent it across the face and back to
+  // the global search (a grid of distances per call; seconds per patch on
+  // B-spline faces). The samples keep their slots: vertices, then one
+  // centroid per triangle, then one midpoint per mesh edge.
   std::vector<PatchSamples> samples(nP);
   for (Index p = 0; p < nP; ++p) {
     const NetworkPatch& P = network.patches[p];
     const TriangleMesh& m = moved[p].num_vertices() ? moved[p] : P.mesh;
-    auto face_of = [&](Index t) { return has_faces[p] ? P.source_face[t] : kInvalid; };
     const auto& vf = vertex_faces[p];
-    PatchSamples& S = samples[p];
     const auto& uv = param[p].uv;
-    for (Index v = 0; v < m.num_vertices(); ++v) {
-      S.uv.push_back(uv[v]);
-      S.points.push_back(projector.on_faces(vf[v], m.positions[v]));
-    }
-    std::vector<EdgeKey> seen;
-    for (Index t = 0; t < m.num_triangles(); ++t) {
-      const Tri& f = m.triangles[t];
-      const std::vector<Index> faces = has_faces[p] ? std::vector<Index>{face_of(t)} : std::vector<Index>{};
-      S.uv.push_back((uv[f[0]] + uv[f[1]] + uv[f[2]]) / 3);
-      S.points.push_back(projector.on_faces(faces, (m.positions[f[0]] + m.positions[f[1]] + m.positions[f[2]]) / 3));
-      for (int k = 0; k < 3; ++k) seen.push_back(edge_key(f[k], f[(k + 1) % 3]));
-    }
-    std::sort(seen.begin(), seen.end());
-    seen.erase(std::unique(seen.begin(), seen.end()), seen.end());
-    // Edge midpoints: faces of either end (a midpoint lies in one of the two
-    // triangles along the edge, whose faces are among the ends').
-    for (const EdgeKey& e : seen) {
-      std::vector<Index> faces;
-      if (has_faces[p]) {
-        faces = vf[e[0]];
-        faces.insert(faces.end(), vf[e[1]].begin(), vf[e[1]].end());
-        sort_unique(faces);
+    const Index nv = m.num_vertices(), nt = m.num_triangles();
+    std::vector<std::vector<Index>> vertex_triangles(nv);
+    for (Index t = 0; t < nt; ++t)
+      for (Index v : m.triangles[t]) vertex_triangles[v].push_back(t);
+    std::vector<EdgeKey> edges;
+    for (const Tri& f : m.triangles)
+      for (int k = 0; k < 3; ++k) edges.push_back(edge_key(f[k], f[(k + 1) % 3]));
+    sort_unique_keys(edges);
+    std::vector<std::vector<Index>> vertex_edges(nv);
+    for (Index e = 0; e < Index(edges.size()); ++e) vertex_edges[edges[e][0]].push_back(e), vertex_edges[edges[e][1]].push_back(e);
+
+    PatchSamples& S = samples[p];
+    const size_t total = size_t(nv) + nt + edges.size();
+    S.uv.assign(total, Vec2::Zero());
+    S.points.assign(total, Vec3::Zero());
+    std::vector<bool> done(total, false), queued(nv, false);
+    auto sample = [&](size_t slot, const std::vector<Index>& faces, const Vec2& at, const Vec3& x) {
+      if (done[slot]) return;
+      done[slot] = true;
+      S.uv[slot] = at;
+      S.points[slot] = projector.on_faces(faces, x);
+    };
+    std::vector<Index> queue;
+    for (Index seed = 0; seed < nv; ++seed) {
+      if (queued[seed]) continue;
+      queued[seed] = true;
+      queue.assign(1, seed);
+      for (size_t head = 0; head < queue.size(); ++head) {
+        const Index v = queue[head];
+        sample(v, vf[v], uv[v], m.positions[v]);
+        for (Index t : vertex_triangles[v]) {
+          const Tri& f = m.triangles[t];
+          const std::vector<Index> faces = has_faces[p] ? std::vector<Index>{P.source_face[t]} : std::vector<Index>{};
+          sample(nv + t, faces, (uv[f[0]] + uv[f[1]] + uv[f[2]]) / 3,
+                 (m.positions[f[0]] + m.positions[f[1]] + m.positions[f[2]]) / 3);
+        }
+        // Edge midpoints: faces of either end (a midpoint lies in one of the
+        // two triangles along the edge, whose faces are among the ends').
+        for (Index e : vertex_edges[v]) {
+          const EdgeKey& k = edges[e];
+          std::vector<Index> faces;
+          if (has_faces[p]) {
+            faces = vf[k[0]];
+            faces.insert(faces.end(), vf[k[1]].begin(), vf[k[1]].end());
+            sort_unique(faces);
+          }
+          sample(size_t(nv) + nt + e, faces, (uv[k[0]] + uv[k[1]]) / 2, (m.positions[k[0]] + m.positions[k[1]]) / 2);
+          const Index w = k[0] == v ? k[1] : k[0];
+          if (!queued[w]) queued[w] = true, queue.push_back(w);
+        }
       }
-      S.uv.push_back((uv[e[0]] + uv[e[1]]) / 2);
-      S.points.push_back(projector.on_faces(faces, (m.positions[e[0]] + m.positions[e[1]]) / 2));
     }
   }
   watch.lap("sample");
