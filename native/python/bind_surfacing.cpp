@@ -12,7 +12,7 @@
 //   tolerance: model units (None: 1e-3 of the model's bbox diagonal).
 //   Keyword options (FitOptions): relative_tolerance, initial_spans,
 //   max_spans, smoothing, seam_weight, seam_mode ('tangent' | 'c1'), tangent_rounds, edge_density, edge_smoothing, parameter_corrections, edge_snap, seam_from,
-//   seam_to, crease_angle_deg.
+//   seam_to, crease_angle_deg, vertex_tangent_planes.
 //   Returns (lengths in model units):
 //     max_deviation, rms_deviation, per_patch [{max_deviation,
 //     rms_deviation, nu, nv, samples, worst_uv, side_deviation, crease_deg,
@@ -137,6 +137,7 @@ FitOptions options_from(const py::kwargs& kw) {
     else if (key == "seam_from") o.seam_from = py::cast<double>(v);
     else if (key == "seam_to") o.seam_to = py::cast<double>(v);
     else if (key == "crease_angle_deg") o.crease_angle_deg = py::cast<double>(v);
+    else if (key == "vertex_tangent_planes") o.vertex_tangent_planes = py::cast<bool>(v);
     else throw InputError("refit: unknown option '" + key + "'");
   }
   return o;

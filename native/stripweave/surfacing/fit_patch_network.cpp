@@ -398,12 +398,50 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
     }
   };
 
+  // Smooth vertices (every edge there a smooth seam between two patches):
+  // the surface normal for the edge curves' end tangents (edge_curves.h):
+  // the source's exact normal where there is a B-rep, else the
+  // area-weighted mean of the patch-mesh triangles around the corners
+  // there. Zero elsewhere: at a sharp or boundary vertex the patches need
+  // not share a normal.
+  std::vector<Vec3> vertex_normal(nV, Vec3::Zero());
+  if (options.vertex_tangent_planes) {
+    std::vector<bool> smooth(nV, true);
+    for (Index e = 0; e < nE; ++e) {
+      const NetworkEdge& E = network.edges[e];
+      const bool seam = uses[e].size() == 2 && !E.sharp && !E.boundary;
+      smooth[E.v0] = smooth[E.v0] && seam;
+      smooth[E.v1] = smooth[E.v1] && seam;
+    }
+    std::vector<std::vector<Index>> faces_at(nV);
+    for (Index p = 0; p < nP; ++p) {
+      const NetworkPatch& P = network.patches[p];
+      for (int s = 0; s < 4; ++s) {
+        const NetworkEdge& E = network.edges[P.edges[s]];
+        const Index v = P.reversed[s] ? E.v1 : E.v0;
+        if (!smooth[v]) continue;
+        const auto& f = vertex_faces[p][P.corners[s]];
+        faces_at[v].insert(faces_at[v].end(), f.begin(), f.end());
+        for (Index t = 0; t < P.mesh.num_triangles(); ++t)
+          for (Index c : P.mesh.triangles[t])
+            if (c == P.corners[s]) vertex_normal[v] += triangle_normal_area2(P.mesh, t);
+      }
+    }
+    for (Index v = 0; v < nV; ++v) {
+      if (vertex_normal[v].norm() <= 0) continue;
+      sort_unique(faces_at[v]);
+      const Vec3 exact = projector.normal_on_faces(faces_at[v], network.vertices[v]);
+      vertex_normal[v] = exact.norm() > 0 ? exact : Vec3(vertex_normal[v].normalized());
+    }
+  }
+
   auto fit_round = [&]() {
     for (Index e = 0; e < nE; ++e)
       if (edge_dirty[e]) {
         const NetworkEdge& E = network.edges[e];
         result.edge_curves[e] = fit_edge_curve(edge_samples[e], network.vertices[E.v0], network.vertices[E.v1],
-                                               spans[strip_of[e]], options.smoothing);
+                                               spans[strip_of[e]], options.smoothing, vertex_normal[E.v0],
+                                               vertex_normal[E.v1]);
         edge_dev[e] = edge_curve_deviation(result.edge_curves[e], edge_samples[e]);
       }
     std::vector<Index> which;

@@ -23,7 +23,9 @@
 //      convergence estimate n' = n (err/tol)^(1/4), until all meet the
 //      tolerance or `max_spans`.
 //   4. Tangent continuity across the smooth (non-sharp, non-boundary)
-//      seams; sharp seams stay C0. seam_mode 1 (default): one coupled fit
+//      seams (vertex_tangent_planes, experimental: at a smooth vertex the
+//      edge curves leave in the surface's tangent plane there, so the
+//      corners share a normal, edge_curves.h); sharp seams stay C0. seam_mode 1 (default): one coupled fit
 //      with C1 penalties (A_m - Q_m) + alpha (B_m - Q_m) = 0 (patch_fit.h),
 //      which with a constant alpha along the seam is stronger than G1 and
 //      costs accuracy where the two patches' parameterizations meet the
@@ -90,6 +92,12 @@ struct FitOptions {
   double edge_smoothing = 3.0;       // smooth edges: Gaussian sigma in polyline segments (0: none), edge_curves.h
   double edge_snap = 5e-3;           // sharp-edge snap distance, relative to the bbox diagonal
   double seam_from = 0.2, seam_to = 0.8;  // where the seam angle is measured (edge parameter)
+  // Edge curves leave smooth vertices in the tangent plane (edge_curves.h).
+  // Experimental, off: on handle.step it takes the regular seams from 5.8
+  // to 1.6 deg (the corners' normals agree), but on the screw's auto layout
+  // it leaves a cusp by one corner of a patch refined to 24 x 24 spans on
+  // few samples (179 deg at one seam point, 4.4 without).
+  bool vertex_tangent_planes = false;
   double crease_angle_deg = 30;      // a dihedral above this inside a patch is a crease (patch_creases.h)
   bool build_shell = true;
 };

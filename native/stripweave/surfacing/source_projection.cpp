@@ -81,6 +81,18 @@ Vec3 SourceProjector::nearest_on_edges(const std::vector<Index>& faces, const Ve
   return best;
 }
 
+Vec3 SourceProjector::normal_on_faces(const std::vector<Index>& faces, const Vec3& p) const {
+  if (!brep_) return Vec3::Zero();
+  Vec3 best = Vec3::Zero();
+  double best_d = std::numeric_limits<double>::infinity();
+  for (Index f : faces) {
+    if (f < 0 || f >= brep_->num_faces()) continue;
+    const SurfacePoint sp = brep_->evaluate(f, p);
+    if (sp.normal_defined && sp.distance < best_d) best_d = sp.distance, best = sp.normal;
+  }
+  return best;
+}
+
 Vec3 SourceProjector::on_sharp(const std::vector<Index>& faces, const Vec3& p) const {
   if (!brep_) return fallback(p);
   double d;

@@ -21,6 +21,8 @@
 //                           the faces F when one is within the snap distance
 //                           (a sharp layout edge runs along a B-rep edge),
 //                           else on_faces;
+//           normal_on_faces(F, p)  the exact outward normal there
+//                           (BrepSource::evaluate);
 //         without a B-rep, the nearest point of the source mesh (CGAL AABB
 //         tree, SurfaceLocator) or p itself.
 // Not thread-safe (BrepSource caches per-face analysers).
@@ -42,6 +44,9 @@ class SourceProjector {
   bool exact() const { return brep_ != nullptr; }
   Vec3 on_faces(const std::vector<Index>& faces, const Vec3& p) const;
   Vec3 on_sharp(const std::vector<Index>& faces, const Vec3& p) const;
+  // The outward unit normal of the nearest of the faces at p (zero without
+  // a B-rep, or where no face has one).
+  Vec3 normal_on_faces(const std::vector<Index>& faces, const Vec3& p) const;
 
  private:
   Vec3 fallback(const Vec3& p) const;
