@@ -187,9 +187,12 @@ std::shared_ptr<BrepSource> BrepSource::checked(std::unique_ptr<Impl> impl, cons
 Index BrepSource::num_faces() const { return impl_->faces.Extent(); }
 Index BrepSource::num_edges() const { return impl_->edges.Extent(); }
 
-BoundingBox BrepSource::bounding_box() const {
+namespace {
+
+// From the geometry, not a tessellation (conservative: never smaller).
+BoundingBox box_of(const TopoDS_Shape& shape) {
   Bnd_Box box;
-  BRepBndLib::Add(impl_->shape, box, /*useTriangulation=*/false);
+  BRepBndLib::Add(shape, box, /*useTriangulation=*/false);
   BoundingBox result;
   if (box.IsVoid()) return result;
   double x0, y0, z0, x1, y1, z1;
@@ -198,6 +201,12 @@ BoundingBox BrepSource::bounding_box() const {
   result.add({x1, y1, z1});
   return result;
 }
+
+}  // namespace
+
+BoundingBox BrepSource::bounding_box() const { return box_of(impl_->shape); }
+
+BoundingBox BrepSource::face_bounding_box(Index face) const { return box_of(impl_->face(face)); }
 
 BrepTessellation BrepSource::tessellate(double linear_deflection, double angular_deflection_rad) const {
   const Impl& s = *impl_;

@@ -14,6 +14,8 @@ SourceProjector::SourceProjector(const Surface& surface, double edge_snap) : edg
     brep_ = surface.brep.get();
     face_edges_.resize(brep_->num_faces());
     face_edges_known_.assign(brep_->num_faces(), false);
+    face_box_.resize(brep_->num_faces());
+    face_box_known_.assign(brep_->num_faces(), false);
   } else if (surface.source_mesh && surface.source_mesh->num_triangles() > 0) {
     locator_ = std::make_unique<SurfaceLocator>(*surface.source_mesh);
   }
@@ -34,8 +36,18 @@ Vec3 SourceProjector::on_faces(const std::vector<Index>& faces, const Vec3& p) c
   // chordal mesh cuts a convex crease, and the far face's continuation is
   // nearer than the face the point belongs to).
   const bool trimmed = faces.size() > 1;
+  // Nearest face boxes first; a face whose box lies farther than the
+  // nearest foot point found inside a trim cannot offer a nearer one (nor
+  // can its edges): its projection, often the global search of a far
+  // surface (the other side of a thin wall), is skipped.
+  std::vector<std::pair<double, Index>> order;
   for (Index f : faces) {
     if (f < 0 || f >= brep_->num_faces()) continue;
+    order.push_back({trimmed ? box_distance(f, p) : 0.0, f});
+  }
+  std::sort(order.begin(), order.end());
+  for (const auto& [box_d, f] : order) {
+    if (box_d > best_inside_d) break;
     double d;
     bool inside = true;
     const Vec3 q = brep_->project_to_face(f, p, &d, edge_snap_, trimmed ? &inside : nullptr);
@@ -50,6 +62,12 @@ Vec3 SourceProjector::on_faces(const std::vector<Index>& faces, const Vec3& p) c
   const Vec3 on_edge = nearest_on_edges(faces, p, &edge_d);
   if (edge_d < best_inside_d) return on_edge;
   return std::isfinite(best_inside_d) ? best_inside : best;
+}
+
+double SourceProjector::box_distance(Index face, const Vec3& p) const {
+  if (!face_box_known_[face]) face_box_[face] = brep_->face_bounding_box(face), face_box_known_[face] = true;
+  const BoundingBox& b = face_box_[face];
+  return (b.min - p).cwiseMax(p - b.max).cwiseMax(0.0).norm();
 }
 
 Vec3 SourceProjector::nearest_on_edges(const std::vector<Index>& faces, const Vec3& p, double* distance) const {

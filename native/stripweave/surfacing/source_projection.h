@@ -50,12 +50,15 @@ class SourceProjector {
 
  private:
   Vec3 fallback(const Vec3& p) const;
+  double box_distance(Index face, const Vec3& p) const;
   Vec3 nearest_on_edges(const std::vector<Index>& faces, const Vec3& p, double* distance) const;
   const BrepSource* brep_ = nullptr;
   std::unique_ptr<SurfaceLocator> locator_;
   double edge_snap_;
   mutable std::vector<std::vector<Index>> face_edges_;  // per B-rep face, lazily
   mutable std::vector<bool> face_edges_known_;
+  mutable std::vector<BoundingBox> face_box_;  // per B-rep face, lazily
+  mutable std::vector<bool> face_box_known_;
 };
 
 }  // namespace stripweave
