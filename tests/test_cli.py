@@ -82,6 +82,10 @@ def test_bench_json(torus_step):
     for stage in ("read", "tessellate", "remesh", "curvature", "total"):
         assert stages[stage]["median"] >= 0 and stages[stage]["p95"] >= stages[stage]["median"]
         assert stages[stage]["runs"] == 2
+    # The surfacing stage (issue 7): the refit of the bench design, or of an auto-woven one.
+    assert bench["refit_patches"] > 0
+    assert 0 < bench["refit_s"]["median"] <= bench["refit_s"]["p95"] and bench["refit_s"]["runs"] == 2
+    assert bench["refit"]["design"] in ("bench", "auto") and bench["refit"]["valid_shell"]
 
 
 def test_loop_json_contract(torus_step):

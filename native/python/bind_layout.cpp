@@ -256,14 +256,20 @@ void bind_layout(py::module_& m, py::class_<DesignState, std::shared_ptr<DesignS
       "patch_network",
       [](const DesignState& d) {
         PatchNetwork net;
+        Index layout_patches = 0;
         {
           py::gil_scoped_release release;
           const DesignLayout dl = design_layout(d, true);
           net = patch_network_of(d.surface(), dl.computed.arrangement, dl.layout);
+          layout_patches = static_cast<Index>(dl.layout.patches.size());
         }
-        return network_dict(net);
+        py::dict out = network_dict(net);
+        // The layout's patch count: those that are not clean quads are left
+        // out of the network, and the refit reports how many.
+        out["layout_patches"] = layout_patches;
+        return out;
       },
-      "The quad layout as the surfacing stage takes it (model units)");
+      "The quad layout as the surfacing stage takes it (model units), with layout_patches");
 }
 
 }  // namespace stripweave_python

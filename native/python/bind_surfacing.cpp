@@ -12,11 +12,13 @@
 //   tolerance: model units (None: 1e-3 of the model's bbox diagonal).
 //   Keyword options (FitOptions): relative_tolerance, initial_spans,
 //   max_spans, smoothing, seam_weight, seam_mode ('tangent' | 'c1'), tangent_rounds, edge_density, edge_smoothing, parameter_corrections, edge_snap, seam_from,
-//   seam_to.
+//   seam_to, crease_angle_deg, vertex_tangent_planes.
 //   Returns (lengths in model units):
 //     max_deviation, rms_deviation, per_patch [{max_deviation,
-//     rms_deviation, nu, nv, samples}], max_edge_deviation, tolerance,
-//     tolerance_met, rounds, uncoupled_patches, max_seam_gap, max_seam_angle_deg (smooth seams,
+//     rms_deviation, nu, nv, samples, worst_uv, side_deviation, crease_deg,
+//     crease_edges, crease_length, creased, flipped_fraction, folded}],
+//     max_edge_deviation, tolerance, tolerance_met, creased_patches,
+//     folded_patches, max_deviation_uncreased, tolerance_met_uncreased, rounds, uncoupled_patches, max_seam_gap, max_seam_angle_deg (smooth seams,
 //     middle of each seam), max_seam_angle_deg_full (whole seam),
 //     max_seam_angle_deg_regular (whole seams between valence-4 vertices),
 //     max_sharp_angle_deg, smooth_seams, sharp_seams, boundary_edges, faces,
@@ -134,6 +136,8 @@ FitOptions options_from(const py::kwargs& kw) {
     else if (key == "parameter_corrections") o.parameter_corrections = py::cast<int>(v);
     else if (key == "seam_from") o.seam_from = py::cast<double>(v);
     else if (key == "seam_to") o.seam_to = py::cast<double>(v);
+    else if (key == "crease_angle_deg") o.crease_angle_deg = py::cast<double>(v);
+    else if (key == "vertex_tangent_planes") o.vertex_tangent_planes = py::cast<bool>(v);
     else throw InputError("refit: unknown option '" + key + "'");
   }
   return o;
@@ -174,12 +178,24 @@ void bind_surfacing(py::module_& m) {
           p["nu"] = f.nu;
           p["nv"] = f.nv;
           p["samples"] = f.samples;
+          p["worst_uv"] = py::make_tuple(f.worst_uv.x(), f.worst_uv.y());
+          p["side_deviation"] = f.side_deviation;
+          p["crease_deg"] = f.crease_deg;
+          p["crease_edges"] = f.crease_edges;
+          p["crease_length"] = f.crease_length;
+          p["creased"] = f.creased();
+          p["flipped_fraction"] = f.flipped_fraction;
+          p["folded"] = f.folded();
           per_patch.append(p);
         }
         d["per_patch"] = per_patch;
         d["max_edge_deviation"] = r.max_edge_deviation;
         d["tolerance"] = r.tolerance;
         d["tolerance_met"] = r.tolerance_met;
+        d["creased_patches"] = r.creased_patches;
+        d["folded_patches"] = r.folded_patches;
+        d["max_deviation_uncreased"] = r.max_deviation_uncreased;
+        d["tolerance_met_uncreased"] = r.tolerance_met_uncreased;
         d["rounds"] = r.rounds;
         d["uncoupled_patches"] = r.uncoupled_patches;
         d["max_seam_gap"] = r.max_seam_gap;

@@ -3,6 +3,12 @@
 Each stage is run `repeat` times; the JSON holds the median and the 95th
 percentile of each stage's milliseconds, with the sizes the stage produced.
 Later stages (graph, loops, strips, layout, refit) add their own sections.
+
+refit (issue 7): refit_s {median, p95, runs} is the surfacing stage alone (patch
+network -> fitted B-spline patches -> sewn shell, no STEP file) on the bench's
+strip design when its layout is valid, else on an auto-woven design (weave.auto_weave),
+with refit_patches and a "refit" block (which design, deviation against the
+tolerance, patches over creases, shell validity). Target: 10 s for 100 patches.
 """
 import os
 import statistics
@@ -93,7 +99,7 @@ def bench_loops(surface, hover_points=50, anchor_pairs=10, boundary="aligned"):
     return result
 
 
-def bench_strips(surface, loop_session=None, strips=6, repeat=3, seed=3):
+def bench_strips(surface, loop_session=None, strips=6, repeat=3, seed=3, sessions=None):
     """Cross field, parameterization and strip extraction for a design of several strips.
 
     The design is grown as a user would: at seeded random points, the best loop compatible
@@ -103,6 +109,8 @@ def bench_strips(surface, loop_session=None, strips=6, repeat=3, seed=3):
     from ._native import native
     from .strips import DesignSession
     session = DesignSession(surface, loop_session=loop_session)
+    if sessions is not None:
+        sessions.append(session)
     tried = 0
     for p in random_surface_points(surface, 8 * strips, seed=seed):
         if len(session.design.strips) >= strips:
@@ -149,10 +157,54 @@ def bench_strips(surface, loop_session=None, strips=6, repeat=3, seed=3):
     }
 
 
-def run_bench(path, repeat=3, loops=True, strips=True, **options):
+def bench_refit(session, repeat=3):
+    """The surfacing stage on the session's layout, else on an auto-woven design.
+
+    Returns refit_s (seconds: median, p95, runs), refit_patches and a "refit" block; refit_s
+    is None when neither design has a valid layout."""
+    from ._native import native
+    from .strips import DesignSession
+    from .surfacing import refit_design
+    from .weave import WeaveOptions, auto_weave
+    which = "bench"
+    if not session.native.patch_network()["patches"]:
+        which = "auto"
+        session = DesignSession(session.surface)
+        auto_weave(session, WeaveOptions())
+    runs, result = [], None
+    for _ in range(max(1, repeat)):
+        start = time.perf_counter()
+        try:
+            result = refit_design(session)
+        except native.InputError as e:
+            return {"refit_s": None, "refit_patches": 0, "refit": {"design": which, "error": str(e)}}
+        runs.append(time.perf_counter() - start)
+    return {
+        "refit_s": summary(runs),
+        "refit_patches": len(result["per_patch"]),
+        "refit": {
+            "design": which,
+            "strips": len(session.design.strips),
+            "max_deviation": result["max_deviation"],
+            "tolerance": result["tolerance"],
+            "tolerance_met": result["tolerance_met"],
+            "creased_patches": result["creased_patches"],
+            "tolerance_met_uncreased": result["tolerance_met_uncreased"],
+            "max_seam_gap": result["max_seam_gap"],
+            "max_seam_angle_deg_regular": result["max_seam_angle_deg_regular"],
+            "valid_shell": result["valid_shell"],
+            "timings_ms": result["timings_ms"],
+        },
+    }
+
+
+def run_bench(path, repeat=3, loops=True, strips=True, refit=True, **options):
     surface, result = bench_surface(path, repeat=repeat, **options)
     if loops:
         result.update(bench_loops(surface))
         if strips:
-            result.update(bench_strips(surface, repeat=repeat))
+            sessions = []
+            result.update(bench_strips(surface, repeat=repeat, sessions=sessions))
+            if refit:
+                result.update(bench_refit(sessions[0], repeat=repeat))
     return result

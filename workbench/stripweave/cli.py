@@ -12,7 +12,7 @@
                     [--max-strips N] [--patches N] [--no-features] [--boundary aligned|trimmed] [--seed S]
                     [--time-limit S]
                                          the main job: (automatic) design, layout, report, preview.png
-    stripweave bench MODEL [--repeat N]  stage timings and sizes, JSON
+    stripweave bench MODEL [--repeat N] [--no-refit]  stage timings and sizes (refit_s too), JSON
 
 MODEL is STEP/STP, IGES/IGS, BREP/BRP, STL, OBJ, OFF, PLY, or an FCStd with
 one shape or mesh. Bad input ends with a one-line error and exit status 1.
@@ -158,7 +158,7 @@ def cmd_layout(args):
 def cmd_bench(args):
     from .bench import run_bench
     print(json.dumps(run_bench(args.model, repeat=args.repeat, loops=not args.surface_only,
-                               **_surface_options(args)), indent=2))
+                               refit=not args.no_refit, **_surface_options(args)), indent=2))
     return 0
 
 
@@ -187,6 +187,9 @@ def cmd_weave(args):
               f"{'' if entry['region'] < 0 else ' ' + str(entry['region'])} at "
               f"({', '.join(f'{x:.4g}' for x in entry['seed'])})")
     print(f"weaving stopped: {result['stopped']}; took {result['timings_ms']['total'] / 1000:.1f} s")
+    if "fit" in result:
+        from .surfacing import format_fit
+        print(format_fit(result["fit"]))
     for name, path in result["paths"].items():
         print(f"wrote {path}")
     return 0
@@ -265,6 +268,7 @@ def build_parser():
     p.add_argument("--repeat", type=int, default=3, help="runs per stage (median and p95 are reported)")
     p.add_argument("--json", action="store_true", help="accepted for symmetry: bench always prints JSON")
     p.add_argument("--surface-only", action="store_true", help="time the surface stage alone")
+    p.add_argument("--no-refit", action="store_true", help="skip the surfacing stage (refit_s)")
     _add_surface_options(p)
     p.set_defaults(run=cmd_bench)
     return parser

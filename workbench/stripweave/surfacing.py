@@ -8,7 +8,14 @@ B-spline patches, sewn into a shell (a solid when closed), optionally STEP.
 refit_design returns the dict of the native `refit` (native/python/bind_surfacing.cpp):
 lengths in model units; max_deviation, rms_deviation, per_patch, max_seam_gap,
 max_seam_angle_deg (smooth seams), tolerance, tolerance_met, valid_shell, closed,
-volume (None unless closed), faces, step_faces_read_back, timings_ms, time_s, ...
+volume (None unless closed), faces, step_faces_read_back, timings_ms, time_s, ...,
+and layout_patches / left_out_patches (layout patches that are not clean quads and so
+were not fitted).
+
+Where the tolerance is missed, the per-patch figures say why (problem_of): a patch the
+layout lays over a crease of the source (a C2 patch cannot follow it: the strips should
+run along the feature curve), a fit that folds (turns its back on the source), or plain
+accuracy (the spans ran out).
 Keyword options go to the native fit (relative_tolerance, max_spans, seam_weight,
 edge_smoothing, ...). Everything geometric happens in the native library.
 """
@@ -16,7 +23,12 @@ from ._native import native
 
 FIT_KEYS = ("max_deviation", "rms_deviation", "max_seam_gap", "max_seam_angle_deg")
 SHELL_KEYS = ("tolerance", "valid_shell", "closed", "volume", "faces")
-PATCH_KEYS = ("max_deviation", "rms_deviation", "nu", "nv", "samples")
+PATCH_KEYS = ("max_deviation", "rms_deviation", "nu", "nv", "samples", "side_deviation", "crease_deg",
+              "crease_length", "creased", "flipped_fraction", "folded")
+# Beyond design.md's four: where the tolerance is missed and why, the seams at regular
+# vertices (the issue's 1 degree), and the refit's own time.
+EXTRA_KEYS = ("max_seam_angle_deg_regular", "max_edge_deviation", "max_deviation_uncreased",
+              "tolerance_met_uncreased", "creased_patches", "folded_patches", "time_s")
 
 
 def refit_design(design_session, tolerance=None, step_path=None, **options):
@@ -29,13 +41,31 @@ def refit_design(design_session, tolerance=None, step_path=None, **options):
     network = design_session.native.patch_network()
     if not network["patches"]:
         raise native.InputError("the design's layout is not valid (red regions): no patches to fit")
-    return native.refit(design_session.surface, network, tolerance=tolerance, step_path=step_path, **options)
+    result = native.refit(design_session.surface, network, tolerance=tolerance, step_path=step_path, **options)
+    result["layout_patches"] = int(network.get("layout_patches", len(network["patches"])))
+    result["left_out_patches"] = result["layout_patches"] - len(network["patches"])
+    return result
+
+
+def problem_of(patch, tolerance):
+    """Why a patch misses the tolerance, in words ("" when it meets it)."""
+    if patch["max_deviation"] <= tolerance and patch.get("side_deviation", 0.0) <= tolerance:
+        return ""
+    if patch.get("creased"):
+        return (f"layout: the patch lies over a crease ({patch['crease_deg']:.0f} deg, "
+                f"{patch['crease_length']:.3g} long); its strips should run along the feature curve")
+    if patch.get("folded"):
+        return f"fit folds: {100 * patch['flipped_fraction']:.1f}% of the patch faces away from the source"
+    return f"accuracy: {patch['nu']} x {patch['nv']} spans were not enough"
 
 
 def fit_report(result):
     """The "fit" block of report.json (design.md) from a refit result, model units."""
     fit = {k: float(result[k]) for k in FIT_KEYS}
-    fit["per_patch"] = [{k: p[k] for k in PATCH_KEYS} for p in result["per_patch"]]
+    fit["per_patch"] = [{**{k: p[k] for k in PATCH_KEYS}, "problem": problem_of(p, result["tolerance"])}
+                        for p in result["per_patch"]]
+    fit.update({k: result[k] for k in EXTRA_KEYS})
+    fit["left_out_patches"] = int(result.get("left_out_patches", 0))
     fit["tolerance"] = float(result["tolerance"])
     fit["tolerance_met"] = bool(result["tolerance_met"])
     fit["valid_shell"] = bool(result["valid_shell"])
@@ -50,7 +80,17 @@ def format_fit(fit):
     shell = "closed solid" if fit["closed"] else "open shell"
     validity = "valid" if fit["valid_shell"] else "INVALID"
     volume = f", volume {fit['volume']:.6g}" if fit["volume"] is not None else ""
-    return (f"fit: {fit['faces']} patches, max deviation {fit['max_deviation']:.3g} "
+    line = (f"fit: {fit['faces']} patches, max deviation {fit['max_deviation']:.3g} "
             f"(rms {fit['rms_deviation']:.3g}, tolerance {fit['tolerance']:.3g}), "
             f"seam gap {fit['max_seam_gap']:.3g}, seam angle {fit['max_seam_angle_deg']:.2f} deg; "
             f"{validity} {shell}{volume}")
+    missed = [i for i, p in enumerate(fit["per_patch"]) if p.get("problem")]
+    creased = [i for i in missed if fit["per_patch"][i].get("creased")]
+    if missed:
+        line += f"; {len(missed)} patches miss the tolerance"
+        if creased:
+            line += f", {len(creased)} of them lie over a crease (layout: {', '.join(map(str, creased[:8]))}"
+            line += ", ...)" if len(creased) > 8 else ")"
+    if fit.get("left_out_patches"):
+        line += f"; {fit['left_out_patches']} layout patches are not clean quads and were left out"
+    return line

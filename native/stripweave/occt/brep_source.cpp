@@ -7,12 +7,14 @@
 #include <BRepBndLib.hxx>
 #include <BRepLProp_SLProps.hxx>
 #include <BRepMesh_IncrementalMesh.hxx>
+#include <BRepTopAdaptor_FClass2d.hxx>
 #include <BRepTools.hxx>
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
 #include <Bnd_Box.hxx>
 #include <Extrema_ExtPC.hxx>
 #include <Geom2d_Curve.hxx>
+#include <Geom_Surface.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <IGESControl_Reader.hxx>
 #include <Message.hxx>
@@ -87,6 +89,7 @@ struct BrepSource::Impl {
   mutable std::vector<std::unique_ptr<ShapeAnalysis_Surface>> analysers;  // per face, lazily
   mutable std::vector<gp_Pnt2d> last_uv;        // per face, the previous project_to_face answer
   mutable std::vector<std::uint8_t> has_last_uv;
+  mutable std::vector<std::unique_ptr<BRepTopAdaptor_FClass2d>> classifiers;  // per face, lazily
 
   explicit Impl(const TopoDS_Shape& s) : shape(s) {
     TopExp::MapShapes(shape, TopAbs_FACE, faces);
@@ -96,6 +99,7 @@ struct BrepSource::Impl {
     analysers.resize(faces.Extent());
     last_uv.resize(faces.Extent());
     has_last_uv.assign(faces.Extent(), 0);
+    classifiers.resize(faces.Extent());
   }
   const TopoDS_Face& face(Index i) const { return TopoDS::Face(faces(i + 1)); }
   const TopoDS_Edge& edge(Index i) const { return TopoDS::Edge(edges(i + 1)); }
@@ -183,9 +187,12 @@ std::shared_ptr<BrepSource> BrepSource::checked(std::unique_ptr<Impl> impl, cons
 Index BrepSource::num_faces() const { return impl_->faces.Extent(); }
 Index BrepSource::num_edges() const { return impl_->edges.Extent(); }
 
-BoundingBox BrepSource::bounding_box() const {
+namespace {
+
+// From the geometry, not a tessellation (conservative: never smaller).
+BoundingBox box_of(const TopoDS_Shape& shape) {
   Bnd_Box box;
-  BRepBndLib::Add(impl_->shape, box, /*useTriangulation=*/false);
+  BRepBndLib::Add(shape, box, /*useTriangulation=*/false);
   BoundingBox result;
   if (box.IsVoid()) return result;
   double x0, y0, z0, x1, y1, z1;
@@ -194,6 +201,12 @@ BoundingBox BrepSource::bounding_box() const {
   result.add({x1, y1, z1});
   return result;
 }
+
+}  // namespace
+
+BoundingBox BrepSource::bounding_box() const { return box_of(impl_->shape); }
+
+BoundingBox BrepSource::face_bounding_box(Index face) const { return box_of(impl_->face(face)); }
 
 BrepTessellation BrepSource::tessellate(double linear_deflection, double angular_deflection_rad) const {
   const Impl& s = *impl_;
@@ -429,17 +442,33 @@ Vec3 BrepSource::project_to_edge(Index e, const Vec3& p, double* distance) const
   return best;
 }
 
-Vec3 BrepSource::project_to_face(Index face, const Vec3& p, double* distance, double near) const {
+Vec3 BrepSource::project_to_face(Index face, const Vec3& p, double* distance, double near, bool* inside) const {
   const Impl& s = *impl_;
   auto& analyser = s.analysers[face];
   if (!analyser) analyser = std::make_unique<ShapeAnalysis_Surface>(BRep_Tool::Surface(s.face(face)));
   Vec3 q = p;
+  if (inside) *inside = true;
   try {
     const gp_Pnt2d uv = near > 0 && s.has_last_uv[face]
                             ? analyser->NextValueOfUV(s.last_uv[face], to_pnt(p), 1e-9, near)
                             : analyser->ValueOfUV(to_pnt(p), 1e-9);
     s.last_uv[face] = uv, s.has_last_uv[face] = 1;
     q = to_vec(analyser->Value(uv));
+    if (inside) {
+      auto& classifier = s.classifiers[face];
+      if (!classifier) classifier = std::make_unique<BRepTopAdaptor_FClass2d>(s.face(face), 1e-7);
+      *inside = classifier->Perform(uv) != TopAbs_OUT;
+      // A periodic surface answers in its own period, the trim may lie in
+      // the next one.
+      const Handle(Geom_Surface)& surface = analyser->Surface();
+      for (int k = 0; k < 4 && !*inside; ++k) {
+        const bool along_u = k < 2;
+        if (along_u ? !surface->IsUPeriodic() : !surface->IsVPeriodic()) continue;
+        const double period = (k % 2 ? -1 : 1) * (along_u ? surface->UPeriod() : surface->VPeriod());
+        const gp_Pnt2d shifted(uv.X() + (along_u ? period : 0), uv.Y() + (along_u ? 0 : period));
+        *inside = classifier->Perform(shifted) != TopAbs_OUT;
+      }
+    }
   } catch (const Standard_Failure&) {
   }
   if (distance) *distance = (q - p).norm();

@@ -30,7 +30,9 @@
 //       Newton, ShapeAnalysis_Surface::NextValueOfUV) and falls back to the
 //       global one only when that lands farther than `near` from p: many
 //       times faster on B-spline faces for samples that come in spatial
-//       order and lie close to the surface
+//       order and lie close to the surface; with `inside`, whether that
+//       point lies within the face's trim (BRepTopAdaptor_FClass2d, cached
+//       per face; on the border counts as inside)
 #pragma once
 
 #include "stripweave/surface/triangle_mesh.h"
@@ -69,6 +71,7 @@ class BrepSource {
   Index num_faces() const;
   Index num_edges() const;
   BoundingBox bounding_box() const;
+  BoundingBox face_bounding_box(Index face) const;  // from its geometry (conservative)
 
   BrepTessellation tessellate(double linear_deflection, double angular_deflection_rad) const;
   std::vector<bool> sharp_edges(double angle_deg) const;
@@ -78,7 +81,8 @@ class BrepSource {
 
   SurfacePoint evaluate(Index face, const Vec3& p) const;
   Vec3 project_to_edge(Index edge, const Vec3& p, double* distance = nullptr) const;
-  Vec3 project_to_face(Index face, const Vec3& p, double* distance = nullptr, double near = 0) const;
+  Vec3 project_to_face(Index face, const Vec3& p, double* distance = nullptr, double near = 0,
+                       bool* inside = nullptr) const;
 
   // The shape as a BREP string (for the refit stage and for FreeCAD).
   std::string to_brep_string() const;

@@ -77,8 +77,12 @@ EdgeSamples sample_edge(const std::vector<Vec3>& polyline, const std::vector<std
   return out;
 }
 
+// Largest angle (degrees) between a free end tangent and the vertex's
+// tangent plane for which the end is held in the plane.
+constexpr double kMaxTangentTilt = 5.0;
+
 BSplineCurve3 fit_edge_curve(const EdgeSamples& samples, const Vec3& start, const Vec3& end, int spans,
-                             double smoothing) {
+                             double smoothing, const Vec3& start_normal, const Vec3& end_normal) {
   BSplineCurve3 c;
   c.spans = spans;
   const int N = spans + 3;
@@ -137,8 +141,50 @@ BSplineCurve3 fit_edge_curve(const EdgeSamples& samples, const Vec3& start, cons
     const double s = double(i + 1) / (N - 1);
     b.row(i) += ridge * ((1 - s) * start + s * end).transpose();
   }
-  const Eigen::MatrixXd x = A.ldlt().solve(b);
-  for (int i = 0; i < M; ++i) c.control[i + 1] = x.row(i).transpose();
+  {
+    const Eigen::MatrixXd x = A.ldlt().solve(b);
+    for (int i = 0; i < M; ++i) c.control[i + 1] = x.row(i).transpose();
+  }
+  // Only an end whose free tangent already lies near the plane is held in
+  // it: one far out of it (a vertex by a crease, a curve too coarse to
+  // bend in time) would be forced into a hook that folds the patches.
+  auto near_plane = [&](const Vec3& normal, const Vec3& tangent) {
+    if (normal.isZero() || tangent.isZero()) return false;
+    return std::abs(normal.normalized().dot(tangent.normalized())) < std::sin(kMaxTangentTilt * M_PI / 180.0);
+  };
+  const Vec3 start_n = near_plane(start_normal, c.control[1] - start) ? start_normal : Vec3::Zero();
+  const Vec3 end_n = near_plane(end_normal, c.control[N - 2] - end) ? end_normal : Vec3::Zero();
+  if (start_n.isZero() && end_n.isZero()) return c;
+  // End tangents in the vertices' tangent planes: the penalty
+  // w ((P_1 - start) . n)^2 couples x, y and z, so the three share one
+  // 3M x 3M system (M <= max_spans + 1: small and dense); the rest of the
+  // curve still follows the samples. The ends are then put exactly in
+  // their planes.
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(3 * M, 3 * M);
+  Eigen::VectorXd r(3 * M);
+  for (int i = 0; i < M; ++i) {
+    for (int j = 0; j < M; ++j) K.block<3, 3>(3 * i, 3 * j) = A(i, j) * Eigen::Matrix3d::Identity();
+    r.segment<3>(3 * i) = b.row(i).transpose();
+  }
+  const double w = 1e6 * A.diagonal().maxCoeff();
+  auto plane = [&](int i, const Vec3& normal, const Vec3& at) {
+    if (normal.isZero()) return;
+    const Vec3 n = normal.normalized();
+    K.block<3, 3>(3 * i, 3 * i) += w * n * n.transpose();
+    r.segment<3>(3 * i) += w * n * n.dot(at);
+  };
+  plane(0, start_n, start);
+  plane(M - 1, end_n, end);
+  const Eigen::VectorXd x = K.ldlt().solve(r);
+  for (int i = 0; i < M; ++i) c.control[i + 1] = x.segment<3>(3 * i);
+  if (!start_n.isZero()) {
+    const Vec3 n = start_n.normalized();
+    c.control[1] -= (c.control[1] - start).dot(n) * n;
+  }
+  if (!end_n.isZero()) {
+    const Vec3 n = end_n.normalized();
+    c.control[N - 2] -= (c.control[N - 2] - end).dot(n) * n;
+  }
   return c;
 }
 

@@ -42,8 +42,16 @@ struct EdgeSamples {
 EdgeSamples sample_edge(const std::vector<Vec3>& polyline, const std::vector<std::vector<Index>>& point_faces,
                         bool sharp, const SourceProjector& projector, int density, double smooth = 0);
 
+// start_normal / end_normal (zero: none): the surface normal at a smooth
+// vertex. The curve's end tangent (P_1 - P_0) is then held in the tangent
+// plane there, so every edge curve at the vertex leaves it in one plane and
+// the patch corners meeting there share their normal (G1 at the vertex:
+// a corner's normal is the cross product of its two sides' end tangents).
+// Only where the free fit's end tangent is within 5 degrees of the plane:
+// farther out, holding it would bend the curve into a hook.
 BSplineCurve3 fit_edge_curve(const EdgeSamples& samples, const Vec3& start, const Vec3& end, int spans,
-                             double smoothing);
+                             double smoothing, const Vec3& start_normal = Vec3::Zero(),
+                             const Vec3& end_normal = Vec3::Zero());
 
 // Largest distance from the samples to the curve (foot points by Newton
 // iteration from the sample's own parameter).

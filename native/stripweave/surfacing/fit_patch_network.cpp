@@ -2,6 +2,7 @@
 
 #include "stripweave/core/error.h"
 #include "stripweave/surfacing/edge_curves.h"
+#include "stripweave/surfacing/patch_creases.h"
 #include "stripweave/surfacing/patch_fit.h"
 #include "stripweave/surfacing/patch_parameterization.h"
 #include "stripweave/surfacing/patch_shell.h"
@@ -46,6 +47,11 @@ void sort_unique(std::vector<Index>& v) {
   v.erase(std::unique(v.begin(), v.end()), v.end());
 }
 
+void sort_unique_keys(std::vector<EdgeKey>& v) {
+  std::sort(v.begin(), v.end());
+  v.erase(std::unique(v.begin(), v.end()), v.end());
+}
+
 // Orthogonal deviation of the samples from the fitted network: the own
 // patch, and where the foot point lands on its border (the sample may lie
 // beyond the smooth edge curve, on the neighbour's side of a zig-zag mesh
@@ -78,7 +84,7 @@ void measure(const std::vector<BSplinePatch>& patches, Index p, const std::vecto
   double worst = 0, sum2 = 0;
   for (size_t k = 0; k < s.points.size(); ++k) {
     const double d = distance_to_network(patches, p, neighbours, s.points[k], s.uv[k], enough);
-    worst = std::max(worst, d);
+    if (d > worst) worst = d, fig.worst_uv = s.uv[k];
     sum2 += d * d;
   }
   fig.max_deviation = worst;
@@ -268,39 +274,71 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
     moved[p] = std::move(m);
   }
 
+  // Each patch's samples are projected in breadth-first order over its
+  // mesh (a vertex, then the triangles and edges it opens), so consecutive
+  // projections onto a face are neighbours: the local Newton from the
+  // previous foot point (BrepSource::project_to_face with `near`) then
+  // converges, where the index order sent it across the face and back to
+  // the global search (a grid of distances per call; seconds per patch on
+  // B-spline faces). The samples keep their slots: vertices, then one
+  // centroid per triangle, then one midpoint per mesh edge.
   std::vector<PatchSamples> samples(nP);
   for (Index p = 0; p < nP; ++p) {
     const NetworkPatch& P = network.patches[p];
     const TriangleMesh& m = moved[p].num_vertices() ? moved[p] : P.mesh;
-    auto face_of = [&](Index t) { return has_faces[p] ? P.source_face[t] : kInvalid; };
     const auto& vf = vertex_faces[p];
-    PatchSamples& S = samples[p];
     const auto& uv = param[p].uv;
-    for (Index v = 0; v < m.num_vertices(); ++v) {
-      S.uv.push_back(uv[v]);
-      S.points.push_back(projector.on_faces(vf[v], m.positions[v]));
-    }
-    std::vector<EdgeKey> seen;
-    for (Index t = 0; t < m.num_triangles(); ++t) {
-      const Tri& f = m.triangles[t];
-      const std::vector<Index> faces = has_faces[p] ? std::vector<Index>{face_of(t)} : std::vector<Index>{};
-      S.uv.push_back((uv[f[0]] + uv[f[1]] + uv[f[2]]) / 3);
-      S.points.push_back(projector.on_faces(faces, (m.positions[f[0]] + m.positions[f[1]] + m.positions[f[2]]) / 3));
-      for (int k = 0; k < 3; ++k) seen.push_back(edge_key(f[k], f[(k + 1) % 3]));
-    }
-    std::sort(seen.begin(), seen.end());
-    seen.erase(std::unique(seen.begin(), seen.end()), seen.end());
-    // Edge midpoints: faces of either end (a midpoint lies in one of the two
-    // triangles along the edge, whose faces are among the ends').
-    for (const EdgeKey& e : seen) {
-      std::vector<Index> faces;
-      if (has_faces[p]) {
-        faces = vf[e[0]];
-        faces.insert(faces.end(), vf[e[1]].begin(), vf[e[1]].end());
-        sort_unique(faces);
+    const Index nv = m.num_vertices(), nt = m.num_triangles();
+    std::vector<std::vector<Index>> vertex_triangles(nv);
+    for (Index t = 0; t < nt; ++t)
+      for (Index v : m.triangles[t]) vertex_triangles[v].push_back(t);
+    std::vector<EdgeKey> edges;
+    for (const Tri& f : m.triangles)
+      for (int k = 0; k < 3; ++k) edges.push_back(edge_key(f[k], f[(k + 1) % 3]));
+    sort_unique_keys(edges);
+    std::vector<std::vector<Index>> vertex_edges(nv);
+    for (Index e = 0; e < Index(edges.size()); ++e) vertex_edges[edges[e][0]].push_back(e), vertex_edges[edges[e][1]].push_back(e);
+
+    PatchSamples& S = samples[p];
+    const size_t total = size_t(nv) + nt + edges.size();
+    S.uv.assign(total, Vec2::Zero());
+    S.points.assign(total, Vec3::Zero());
+    std::vector<bool> done(total, false), queued(nv, false);
+    auto sample = [&](size_t slot, const std::vector<Index>& faces, const Vec2& at, const Vec3& x) {
+      if (done[slot]) return;
+      done[slot] = true;
+      S.uv[slot] = at;
+      S.points[slot] = projector.on_faces(faces, x);
+    };
+    std::vector<Index> queue;
+    for (Index seed = 0; seed < nv; ++seed) {
+      if (queued[seed]) continue;
+      queued[seed] = true;
+      queue.assign(1, seed);
+      for (size_t head = 0; head < queue.size(); ++head) {
+        const Index v = queue[head];
+        sample(v, vf[v], uv[v], m.positions[v]);
+        for (Index t : vertex_triangles[v]) {
+          const Tri& f = m.triangles[t];
+          const std::vector<Index> faces = has_faces[p] ? std::vector<Index>{P.source_face[t]} : std::vector<Index>{};
+          sample(nv + t, faces, (uv[f[0]] + uv[f[1]] + uv[f[2]]) / 3,
+                 (m.positions[f[0]] + m.positions[f[1]] + m.positions[f[2]]) / 3);
+        }
+        // Edge midpoints: faces of either end (a midpoint lies in one of the
+        // two triangles along the edge, whose faces are among the ends').
+        for (Index e : vertex_edges[v]) {
+          const EdgeKey& k = edges[e];
+          std::vector<Index> faces;
+          if (has_faces[p]) {
+            faces = vf[k[0]];
+            faces.insert(faces.end(), vf[k[1]].begin(), vf[k[1]].end());
+            sort_unique(faces);
+          }
+          sample(size_t(nv) + nt + e, faces, (uv[k[0]] + uv[k[1]]) / 2, (m.positions[k[0]] + m.positions[k[1]]) / 2);
+          const Index w = k[0] == v ? k[1] : k[0];
+          if (!queued[w]) queued[w] = true, queue.push_back(w);
+        }
       }
-      S.uv.push_back((uv[e[0]] + uv[e[1]]) / 2);
-      S.points.push_back(projector.on_faces(faces, (m.positions[e[0]] + m.positions[e[1]]) / 2));
     }
   }
   watch.lap("sample");
@@ -360,12 +398,50 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
     }
   };
 
+  // Smooth vertices (every edge there a smooth seam between two patches):
+  // the surface normal for the edge curves' end tangents (edge_curves.h):
+  // the source's exact normal where there is a B-rep, else the
+  // area-weighted mean of the patch-mesh triangles around the corners
+  // there. Zero elsewhere: at a sharp or boundary vertex the patches need
+  // not share a normal.
+  std::vector<Vec3> vertex_normal(nV, Vec3::Zero());
+  if (options.vertex_tangent_planes) {
+    std::vector<bool> smooth(nV, true);
+    for (Index e = 0; e < nE; ++e) {
+      const NetworkEdge& E = network.edges[e];
+      const bool seam = uses[e].size() == 2 && !E.sharp && !E.boundary;
+      smooth[E.v0] = smooth[E.v0] && seam;
+      smooth[E.v1] = smooth[E.v1] && seam;
+    }
+    std::vector<std::vector<Index>> faces_at(nV);
+    for (Index p = 0; p < nP; ++p) {
+      const NetworkPatch& P = network.patches[p];
+      for (int s = 0; s < 4; ++s) {
+        const NetworkEdge& E = network.edges[P.edges[s]];
+        const Index v = P.reversed[s] ? E.v1 : E.v0;
+        if (!smooth[v]) continue;
+        const auto& f = vertex_faces[p][P.corners[s]];
+        faces_at[v].insert(faces_at[v].end(), f.begin(), f.end());
+        for (Index t = 0; t < P.mesh.num_triangles(); ++t)
+          for (Index c : P.mesh.triangles[t])
+            if (c == P.corners[s]) vertex_normal[v] += triangle_normal_area2(P.mesh, t);
+      }
+    }
+    for (Index v = 0; v < nV; ++v) {
+      if (vertex_normal[v].norm() <= 0) continue;
+      sort_unique(faces_at[v]);
+      const Vec3 exact = projector.normal_on_faces(faces_at[v], network.vertices[v]);
+      vertex_normal[v] = exact.norm() > 0 ? exact : Vec3(vertex_normal[v].normalized());
+    }
+  }
+
   auto fit_round = [&]() {
     for (Index e = 0; e < nE; ++e)
       if (edge_dirty[e]) {
         const NetworkEdge& E = network.edges[e];
         result.edge_curves[e] = fit_edge_curve(edge_samples[e], network.vertices[E.v0], network.vertices[E.v1],
-                                               spans[strip_of[e]], options.smoothing);
+                                               spans[strip_of[e]], options.smoothing, vertex_normal[E.v0],
+                                               vertex_normal[E.v1]);
         edge_dev[e] = edge_curve_deviation(result.edge_curves[e], edge_samples[e]);
       }
     std::vector<Index> which;
@@ -395,7 +471,7 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
       want[r] = std::max(want[r], m);
     };
     for (Index e = 0; e < nE; ++e)
-      if (edge_dev[e] > tol) ask(e, edge_dev[e]);
+      if (edge_dev[e] > tol && !uses[e].empty()) ask(e, edge_dev[e]);
     for (Index p = 0; p < nP; ++p)
       if (report.per_patch[p].max_deviation > tol)
         for (int s = 0; s < 2; ++s) ask(network.patches[p].edges[s], report.per_patch[p].max_deviation);
@@ -512,16 +588,47 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
   watch.lap("fit");
 
   // --- 5. report ------------------------------------------------------------
+  // Per patch: its edge curves, creases of the layout under it, and where
+  // the fit turns its back on the source (patch_creases.h).
+  for (Index p = 0; p < nP; ++p) {
+    const NetworkPatch& P = network.patches[p];
+    PatchFitFigures& f = report.per_patch[p];
+    for (Index e : P.edges) f.side_deviation = std::max(f.side_deviation, edge_dev[e]);
+    const PatchCreases c = patch_creases(P.mesh, options.crease_angle_deg);
+    f.crease_deg = c.max_dihedral_deg, f.crease_edges = c.crease_edges, f.crease_length = c.crease_length;
+    // Centroid samples follow the vertex samples, one per triangle.
+    const TriangleMesh& m = moved[p].num_vertices() ? moved[p] : P.mesh;
+    const Index nv = m.num_vertices();
+    double flipped = 0, area = 0;
+    for (Index t = 0; t < m.num_triangles() && nv + t < Index(samples[p].uv.size()); ++t) {
+      const Vec3 n = triangle_normal_area2(m, t);
+      const Vec2& uv = samples[p].uv[nv + t];
+      area += n.norm();
+      if (result.surfaces[p].normal(uv.x(), uv.y()).dot(n) < 0) flipped += n.norm();
+    }
+    f.flipped_fraction = area > 0 ? flipped / area : 0;
+    report.creased_patches += f.creased();
+    report.folded_patches += f.folded();
+  }
+
   double sum2 = 0;
   Index count = 0;
+  double uncreased_edges = 0;
   for (const PatchFitFigures& f : report.per_patch) {
     report.max_deviation = std::max(report.max_deviation, f.max_deviation);
     sum2 += f.rms_deviation * f.rms_deviation * f.samples;
     count += f.samples;
+    if (f.creased()) continue;
+    report.max_deviation_uncreased = std::max(report.max_deviation_uncreased, f.max_deviation);
+    uncreased_edges = std::max(uncreased_edges, f.side_deviation);
   }
   report.rms_deviation = count ? std::sqrt(sum2 / count) : 0;
-  for (double d : edge_dev) report.max_edge_deviation = std::max(report.max_edge_deviation, d);
+  // Edges no patch uses (their patches were left out of the network) say
+  // nothing about the fitted shell.
+  for (Index e = 0; e < nE; ++e)
+    if (!uses[e].empty()) report.max_edge_deviation = std::max(report.max_edge_deviation, edge_dev[e]);
   report.tolerance_met = report.max_deviation <= tol && report.max_edge_deviation <= tol;
+  report.tolerance_met_uncreased = report.max_deviation_uncreased <= tol && uncreased_edges <= tol;
 
   // Regular vertices: exactly 4 smooth seams meet there.
   std::vector<Index> valence(nV, 0);

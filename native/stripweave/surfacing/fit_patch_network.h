@@ -23,7 +23,9 @@
 //      convergence estimate n' = n (err/tol)^(1/4), until all meet the
 //      tolerance or `max_spans`.
 //   4. Tangent continuity across the smooth (non-sharp, non-boundary)
-//      seams; sharp seams stay C0. seam_mode 1 (default): one coupled fit
+//      seams (vertex_tangent_planes, experimental: at a smooth vertex the
+//      edge curves leave in the surface's tangent plane there, so the
+//      corners share a normal, edge_curves.h); sharp seams stay C0. seam_mode 1 (default): one coupled fit
 //      with C1 penalties (A_m - Q_m) + alpha (B_m - Q_m) = 0 (patch_fit.h),
 //      which with a constant alpha along the seam is stronger than G1 and
 //      costs accuracy where the two patches' parameterizations meet the
@@ -52,7 +54,12 @@
 //      other), normal-angle jumps across smooth seams over the middle of
 //      each seam ([seam_from, seam_to] of its parameter, since at irregular
 //      vertices G1 is impossible at the corner itself) and over the whole
-//      seam, then the shell (patch_shell.h).
+//      seam, per patch why it
+//      may miss the tolerance whatever its spans: a crease of the source
+//      inside it (patch_creases.h, a layout problem), or a fit that folds
+//      (the fitted normal opposes the patch mesh's), and whether the
+//      tolerance holds on the patches without creases; then the shell
+//      (patch_shell.h).
 // Errors  InputError for an inconsistent network (a side whose mesh
 //         boundary does not carry its edge's polyline, an edge used by more
 //         than two patch sides, ...).
@@ -85,6 +92,13 @@ struct FitOptions {
   double edge_smoothing = 3.0;       // smooth edges: Gaussian sigma in polyline segments (0: none), edge_curves.h
   double edge_snap = 5e-3;           // sharp-edge snap distance, relative to the bbox diagonal
   double seam_from = 0.2, seam_to = 0.8;  // where the seam angle is measured (edge parameter)
+  // Edge curves leave smooth vertices in the tangent plane (edge_curves.h).
+  // Experimental, off: on handle.step it takes the regular seams from 5.8
+  // to 1.6 deg (the corners' normals agree), but on the screw's auto layout
+  // it leaves a cusp by one corner of a patch refined to 24 x 24 spans on
+  // few samples (179 deg at one seam point, 4.4 without).
+  bool vertex_tangent_planes = false;
+  double crease_angle_deg = 30;      // a dihedral above this inside a patch is a crease (patch_creases.h)
   bool build_shell = true;
 };
 
@@ -92,6 +106,17 @@ struct PatchFitFigures {
   double max_deviation = 0, rms_deviation = 0;
   int nu = 0, nv = 0;  // spans
   Index samples = 0;
+  Vec2 worst_uv = Vec2::Zero();  // harmonic (u, v) of the sample at max_deviation
+  double side_deviation = 0;     // largest deviation of its 4 edge curves from their samples
+  // Why a patch may miss the tolerance whatever the spans (patch_creases.h):
+  // the layout lays it over a crease, or the fitted surface turns its back
+  // on the source (area fraction of patch triangles whose normal opposes
+  // the fitted surface's normal at their centroid's (u, v)).
+  double crease_deg = 0, crease_length = 0;
+  Index crease_edges = 0;
+  double flipped_fraction = 0;
+  bool creased() const { return crease_edges > 0; }
+  bool folded() const { return flipped_fraction > 0; }
 };
 
 struct FitReport {
@@ -100,6 +125,11 @@ struct FitReport {
   double max_edge_deviation = 0;      // edge curves to their projected samples
   std::vector<PatchFitFigures> per_patch;
   bool tolerance_met = false;
+  // Patches the layout lays over a crease, patches whose fit folds, and
+  // whether the tolerance holds on the others (patches and their edges).
+  Index creased_patches = 0, folded_patches = 0;
+  double max_deviation_uncreased = 0;
+  bool tolerance_met_uncreased = false;
   int rounds = 0;                     // refinement rounds
   Index uncoupled_patches = 0;        // patches left without the seam coupling (tolerance first)
   double max_seam_gap = 0;            // between neighbouring patches' shared sides

@@ -189,7 +189,12 @@ double seam_speed_ratio(const std::vector<BSplinePatch>& patches, const Seam& s)
 }
 
 double distance_to_patch(const BSplinePatch& patch, const Vec3& p, Vec2 uv, Vec2* foot) {
-  for (int it = 0; it < 6; ++it) {
+  // Gauss-Newton, each step halved until it brings the point closer: on a
+  // strongly curved patch (a thread, a fillet), or from a harmonic (u, v)
+  // some way off the foot point, a full step can overshoot and the plain
+  // iteration settle nowhere, overstating the deviation.
+  double best = (patch.value(uv.x(), uv.y()) - p).squaredNorm();
+  for (int it = 0; it < 12; ++it) {
     Vec3 S, Su, Sv;
     patch.evaluate(uv.x(), uv.y(), &S, &Su, &Sv);
     const Vec3 r = p - S;
@@ -197,12 +202,17 @@ double distance_to_patch(const BSplinePatch& patch, const Vec3& p, Vec2 uv, Vec2
     J << Su.dot(Su), Su.dot(Sv), Su.dot(Sv), Sv.dot(Sv);
     const Vec2 g(Su.dot(r), Sv.dot(r));
     if (std::abs(J.determinant()) < 1e-300) break;
-    const Vec2 step = J.ldlt().solve(g);
-    uv = (uv + step).cwiseMax(0.0).cwiseMin(1.0);
-    if (step.squaredNorm() < 1e-24) break;
+    Vec2 step = J.ldlt().solve(g);
+    bool better = false;
+    for (int half = 0; half < 6 && !better; ++half, step *= 0.5) {
+      const Vec2 next = (uv + step).cwiseMax(0.0).cwiseMin(1.0);
+      const double d = (patch.value(next.x(), next.y()) - p).squaredNorm();
+      if (d < best) best = d, uv = next, better = true;
+    }
+    if (!better || step.squaredNorm() < 1e-24) break;
   }
   if (foot) *foot = uv;
-  return (patch.value(uv.x(), uv.y()) - p).norm();
+  return std::sqrt(best);
 }
 
 }  // namespace stripweave

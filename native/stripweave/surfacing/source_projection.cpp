@@ -4,6 +4,7 @@
 #include "stripweave/occt/brep_source.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace stripweave {
@@ -13,6 +14,8 @@ SourceProjector::SourceProjector(const Surface& surface, double edge_snap) : edg
     brep_ = surface.brep.get();
     face_edges_.resize(brep_->num_faces());
     face_edges_known_.assign(brep_->num_faces(), false);
+    face_box_.resize(brep_->num_faces());
+    face_box_known_.assign(brep_->num_faces(), false);
   } else if (surface.source_mesh && surface.source_mesh->num_triangles() > 0) {
     locator_ = std::make_unique<SurfaceLocator>(*surface.source_mesh);
   }
@@ -24,27 +27,67 @@ Vec3 SourceProjector::fallback(const Vec3& p) const { return locator_ ? locator_
 
 Vec3 SourceProjector::on_faces(const std::vector<Index>& faces, const Vec3& p) const {
   if (!brep_) return fallback(p);
-  Vec3 best = p;
-  double best_d = std::numeric_limits<double>::infinity();
+  Vec3 best = p, best_inside = p;
+  double best_d = std::numeric_limits<double>::infinity(), best_inside_d = best_d;
+  // One face: its untrimmed surface (the smooth continuation past the
+  // border). Several (a sample by a face border): the nearest foot point
+  // that lies within its face's trim; the nearest untrimmed one may lie on
+  // a face's continuation beyond a crease, off the part altogether (the
+  // chordal mesh cuts a convex crease, and the far face's continuation is
+  // nearer than the face the point belongs to).
+  const bool trimmed = faces.size() > 1;
+  // Nearest face boxes first; a face whose box lies farther than the
+  // nearest foot point found inside a trim cannot offer a nearer one (nor
+  // can its edges): its projection, often the global search of a far
+  // surface (the other side of a thin wall), is skipped.
+  std::vector<std::pair<double, Index>> order;
   for (Index f : faces) {
     if (f < 0 || f >= brep_->num_faces()) continue;
-    double d;
-    const Vec3 q = brep_->project_to_face(f, p, &d, edge_snap_);
-    if (d < best_d) best_d = d, best = q;
+    order.push_back({trimmed ? box_distance(f, p) : 0.0, f});
   }
-  return best;
+  std::sort(order.begin(), order.end());
+  for (const auto& [box_d, f] : order) {
+    if (box_d > best_inside_d) break;
+    double d;
+    bool inside = true;
+    const Vec3 q = brep_->project_to_face(f, p, &d, edge_snap_, trimmed ? &inside : nullptr);
+    if (d < best_d) best_d = d, best = q;
+    if (inside && d < best_inside_d) best_inside_d = d, best_inside = q;
+  }
+  if (!trimmed || best_inside_d == best_d) return best;
+  // No foot point inside (the sample faces the crease itself from the
+  // convex side): the nearest point of the faces' B-rep edges, if nearer
+  // than any foot point inside.
+  double edge_d;
+  const Vec3 on_edge = nearest_on_edges(faces, p, &edge_d);
+  if (edge_d < best_inside_d) return on_edge;
+  return std::isfinite(best_inside_d) ? best_inside : best;
 }
 
-Vec3 SourceProjector::on_sharp(const std::vector<Index>& faces, const Vec3& p) const {
-  if (!brep_) return fallback(p);
+double SourceProjector::box_distance(Index face, const Vec3& p) const {
+  if (!face_box_known_[face]) face_box_[face] = brep_->face_bounding_box(face), face_box_known_[face] = true;
+  const BoundingBox& b = face_box_[face];
+  return (b.min - p).cwiseMax(p - b.max).cwiseMax(0.0).norm();
+}
+
+Vec3 SourceProjector::nearest_on_edges(const std::vector<Index>& faces, const Vec3& p, double* distance) const {
   std::vector<Index> edges;
   for (Index f : faces) {
     if (f < 0 || f >= brep_->num_faces()) continue;
     if (!face_edges_known_[f]) face_edges_[f] = brep_->face_edges(f), face_edges_known_[f] = true;
-    edges.insert(edges.end(), face_edges_[f].begin(), face_edges_[f].end());
+    std::vector<Index> own = face_edges_[f];
+    std::sort(own.begin(), own.end());
+    own.erase(std::unique(own.begin(), own.end()), own.end());
+    edges.insert(edges.end(), own.begin(), own.end());
   }
   std::sort(edges.begin(), edges.end());
+  // Edges two of the faces share (the crease between them) first: far
+  // fewer curve projections than every edge of every face.
+  std::vector<Index> shared;
+  for (size_t k = 1; k < edges.size(); ++k)
+    if (edges[k] == edges[k - 1] && (shared.empty() || shared.back() != edges[k])) shared.push_back(edges[k]);
   edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  if (!shared.empty()) edges = std::move(shared);
   Vec3 best = p;
   double best_d = std::numeric_limits<double>::infinity();
   for (Index e : edges) {
@@ -52,7 +95,27 @@ Vec3 SourceProjector::on_sharp(const std::vector<Index>& faces, const Vec3& p) c
     const Vec3 q = brep_->project_to_edge(e, p, &d);
     if (d < best_d) best_d = d, best = q;
   }
-  return best_d <= edge_snap_ ? best : on_faces(faces, p);
+  *distance = best_d;
+  return best;
+}
+
+Vec3 SourceProjector::normal_on_faces(const std::vector<Index>& faces, const Vec3& p) const {
+  if (!brep_) return Vec3::Zero();
+  Vec3 best = Vec3::Zero();
+  double best_d = std::numeric_limits<double>::infinity();
+  for (Index f : faces) {
+    if (f < 0 || f >= brep_->num_faces()) continue;
+    const SurfacePoint sp = brep_->evaluate(f, p);
+    if (sp.normal_defined && sp.distance < best_d) best_d = sp.distance, best = sp.normal;
+  }
+  return best;
+}
+
+Vec3 SourceProjector::on_sharp(const std::vector<Index>& faces, const Vec3& p) const {
+  if (!brep_) return fallback(p);
+  double d;
+  const Vec3 q = nearest_on_edges(faces, p, &d);
+  return d <= edge_snap_ ? q : on_faces(faces, p);
 }
 
 }  // namespace stripweave

@@ -9,14 +9,20 @@
 //         a chordal approximation of the source. Each sample knows the
 //         B-rep faces it may lie on (the source_face of the patch triangles
 //         around it), so
-//           on_faces(F, p)  the nearest of the faces' surfaces to p
+//           on_faces(F, p)  one face: the nearest point of its surface
 //                           (BrepSource::project_to_face, untrimmed: a
 //                           sample near a face border stays on the smooth
-//                           continuation of its own face);
+//                           continuation of its own face); several (a
+//                           sample by a face border): the nearest foot
+//                           point within its face's trim, else the nearest
+//                           point of the faces' edges (never a face's
+//                           continuation past a crease, off the part);
 //           on_sharp(F, p)  the nearest point of the B-rep edges bounding
 //                           the faces F when one is within the snap distance
 //                           (a sharp layout edge runs along a B-rep edge),
 //                           else on_faces;
+//           normal_on_faces(F, p)  the exact outward normal there
+//                           (BrepSource::evaluate);
 //         without a B-rep, the nearest point of the source mesh (CGAL AABB
 //         tree, SurfaceLocator) or p itself.
 // Not thread-safe (BrepSource caches per-face analysers).
@@ -38,14 +44,21 @@ class SourceProjector {
   bool exact() const { return brep_ != nullptr; }
   Vec3 on_faces(const std::vector<Index>& faces, const Vec3& p) const;
   Vec3 on_sharp(const std::vector<Index>& faces, const Vec3& p) const;
+  // The outward unit normal of the nearest of the faces at p (zero without
+  // a B-rep, or where no face has one).
+  Vec3 normal_on_faces(const std::vector<Index>& faces, const Vec3& p) const;
 
  private:
   Vec3 fallback(const Vec3& p) const;
+  double box_distance(Index face, const Vec3& p) const;
+  Vec3 nearest_on_edges(const std::vector<Index>& faces, const Vec3& p, double* distance) const;
   const BrepSource* brep_ = nullptr;
   std::unique_ptr<SurfaceLocator> locator_;
   double edge_snap_;
   mutable std::vector<std::vector<Index>> face_edges_;  // per B-rep face, lazily
   mutable std::vector<bool> face_edges_known_;
+  mutable std::vector<BoundingBox> face_box_;  // per B-rep face, lazily
+  mutable std::vector<bool> face_box_known_;
 };
 
 }  // namespace stripweave
