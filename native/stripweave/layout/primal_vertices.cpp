@@ -80,13 +80,20 @@ std::vector<PrimalVertex> place_primal_vertices(const PrimalContext& ctx, const 
   std::vector<std::array<Index, kRules>> best(nr, {kInvalid, kInvalid, kInvalid, kInvalid, kInvalid});
   const double lowest = -std::numeric_limits<double>::infinity();
   std::vector<std::array<double, kRules>> score(nr, {lowest, lowest, lowest, lowest, lowest});
-  // Per region the largest clearance, and the largest on a crease.
-  std::vector<double> inradius(nr, 0.0), crease_clearance(nr, -1.0);
+  // Per region the largest clearance, and the largest on a crease and on the boundary.
+  std::vector<double> inradius(nr, 0.0), crease_clearance(nr, -1.0), boundary_clearance(nr, -1.0);
   // Refined vertices on a sharp feature curve.
   std::vector<std::uint8_t> on_feature(A.mesh.num_vertices(), 0);
   for (Index e = 0; e < A.topology.num_edges(); ++e)
     if (ctx.edge_feature[e])
       for (Index v : A.topology.edges[e]) on_feature[v] = 1;
+  for (Index w = 0; w < nw; ++w) {
+    const Index v = ctx.wedges.vertex[w], r = ctx.wedge_region[w];
+    if (ctx.vertex_on_loop[v]) continue;
+    inradius[r] = std::max(inradius[r], clearance[w]);
+    if (on_feature[v]) crease_clearance[r] = std::max(crease_clearance[r], clearance[w]);
+    if (ctx.vertex_on_boundary[v]) boundary_clearance[r] = std::max(boundary_clearance[r], clearance[w]);
+  }
   auto offer = [&](Index rule, Index w, double value) {
     const Index r = ctx.wedge_region[w];
     if (value > score[r][rule]) score[r][rule] = value, best[r][rule] = w;
@@ -99,13 +106,13 @@ std::vector<PrimalVertex> place_primal_vertices(const PrimalContext& ctx, const 
     const Index sv = A.original_vertex[v];
     const double centred = -balance[w];  // offer keeps the largest
     if (sv != kInvalid && sv < surface_vertices && strength[sv] > 0) offer(kCorner, w, strength[sv]);
-    if (ctx.vertex_on_boundary[v]) offer(kBoundary, w, centred);
-    if (on_feature[v]) {
-      offer(kFeature, w, centred);
-      crease_clearance[r] = std::max(crease_clearance[r], clearance[w]);
-    }
+    // On a crease or the boundary the sides balance only among the points at least half
+    // as far from the loops as its farthest: the least sum of squares alone can sit near
+    // a loop where the crease runs close to it (a lofted box's rim vertices came in pairs
+    // a few units apart, and its patches no longer fitted within tolerance).
+    if (ctx.vertex_on_boundary[v] && clearance[w] >= 0.5 * boundary_clearance[r]) offer(kBoundary, w, centred);
+    if (on_feature[v] && clearance[w] >= 0.5 * crease_clearance[r]) offer(kFeature, w, centred);
     offer(kCentre, w, centred);
-    inradius[r] = std::max(inradius[r], clearance[w]);
   }
   // A crease that only clips the region near its loops (less than a quarter
   // of the region's inradius from them) would squeeze the vertex's patches:
