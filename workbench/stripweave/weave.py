@@ -35,7 +35,7 @@ the same design on any machine: a loop query is half a unit plus its own work co
 (WORK_PER_POLL per poll, one per 4096 settled g' nodes; queries run on one thread, where
 the count is exact, and stop at query_polls), scoring a candidate half a unit, deriving the
 design with a strip added or removed (field and parameterization, the dearest step) four,
-a primal layout one; a unit is about 0.15 s on our 2-core machines when they are not
+a primal layout one; a unit is 0.1 to 0.16 s on our 2-core machines when they are not
 shared. Two wall-clock safety nets stay, generous enough never to act on the shared
 models on an idle machine: time_limit_s for the whole weave and query_timeout_s per loop
 query. Only they can make the result depend on the machine's speed, and the result says
@@ -69,8 +69,8 @@ class WeaveOptions:
     seeds_per_region: int = 3       # seed points tried per region (centre first)
     alternatives: int = 3           # ranked alternatives tried when no seed point helps
     seed: int = 0                   # which seed point to try first (varies the result, deterministically)
-    budget: float = 150.0           # work units (module doc); past it, only red regions are worked on
-    time_limit_s: float = 45.0      # wall-clock safety net, same effect (inf: none)
+    budget: float = 120.0           # work units (module doc); past it, only red regions are worked on
+    time_limit_s: float = 90.0      # wall-clock safety net, same effect (inf: none)
     band: float = 0.03              # refinement's compatibility_band (empty designs), in bbox diagonals (0: the paper's)
     colours: tuple = COLOURS        # the region colours that get strips (red always does)
     extreme_only: bool = True       # ... orange and yellow ones only where their vertex has valence 2 or 6+
