@@ -117,6 +117,22 @@ def test_torus_meridian_and_equator_give_one_patch_at_one_vertex():
         assert e["length"] > 2 * math.pi * 3 * 0.95
 
 
+def test_a_regular_vertex_sits_midway_between_its_sides():
+    """Meridians 60 degrees apart and the outer and inner equators cut a torus into four
+    valence-4 regions, one a 300-degree band. Its vertex belongs where the middles of its
+    corridors cross (§7), half-way round the band (210 degrees), not anywhere along the
+    band's ridge, all of which is equally far from the loops."""
+    a = math.radians(60)
+    design = Design([MERIDIAN, [(13 * math.cos(a), 13 * math.sin(a), 0, 0, 0, 1)], OUTER_EQUATOR, [(0, 7, 0, 1, 0, 0)]],
+                    options={"compatibility_band": 3.0})
+    L = compute_layout(DesignSession(sw.from_shape(torus(10, 3), target_triangles=16000), design))
+    check_layout(L)
+    assert len(L["patches"]) == 4 and L["summary"]["irregular_vertices"] == {}
+    azimuths = sorted(math.degrees(math.atan2(v["position"][1], v["position"][0])) % 360 for v in L["vertices"])
+    assert azimuths[:2] == pytest.approx([30, 30], abs=10)      # the 60-degree band's vertices
+    assert azimuths[2:] == pytest.approx([210, 210], abs=15)    # the 300-degree band's
+
+
 def test_torus_meridian_alone_has_no_layout():
     ds = DesignSession(sw.from_shape(torus(10, 3), target_triangles=16000), Design([MERIDIAN]))
     L = compute_layout(ds)

@@ -89,6 +89,33 @@ def test_hover_searching_half_the_directions_finds_the_best_over_all_directions(
         assert torus_session.best_loop(p)["cost"] == pytest.approx(min(l["cost"] for l in every), rel=1e-9)
 
 
+def test_a_query_past_its_work_cap_stops_the_same_way_every_time(torus_session):
+    """Automatic weaving caps each loop query's work (polls, one per 4096 settled g' nodes)
+    instead of timing it out, so that the design does not depend on the machine. On one
+    thread the work a query does is exact: the same count every time, and a cap below it
+    always stops the query."""
+    n = torus_session.native
+    n.set_threads(1)
+    try:
+        counts = set()
+        for _ in range(2):
+            assert torus_session.loops([(13, 0, 0)], alternatives=3)
+            counts.add(n.last_query_polls)
+            assert not n.query_limited
+        (work,) = counts
+        assert work > 2
+        n.max_query_polls = work - 1
+        for _ in range(2):
+            with pytest.raises(sw.Cancelled):
+                torus_session.loops([(13, 0, 0)], alternatives=3)
+            assert n.query_limited
+        n.max_query_polls = work   # exactly enough
+        assert torus_session.loops([(13, 0, 0)], alternatives=3) and not n.query_limited
+    finally:
+        n.max_query_polls = 0
+        n.set_threads(2)
+
+
 # --- sphere, cylinder, cube --------------------------------------------------------
 
 def test_sphere_great_circle():

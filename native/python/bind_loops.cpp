@@ -147,7 +147,14 @@ void bind_loops(py::module_& m) {
            "threads a query may use (default: two, one per core)")
       .def("set_disabled", &LoopSession::set_disabled, py::arg("nodes"), py::arg("disabled") = true)
       .def("clear_disabled", &LoopSession::clear_disabled)
-      .def("cancel", &LoopSession::cancel);
+      .def("cancel", &LoopSession::cancel)
+      .def_readwrite("max_query_polls", &LoopSession::max_query_polls,
+                     "deterministic cap on a query's work (polls, one per 4096 settled g' nodes; 0: none): "
+                     "past it the query raises Cancelled and query_limited is set")
+      .def_property_readonly("query_limited", &LoopSession::query_limited,
+                             "the last query stopped at max_query_polls")
+      .def_property_readonly("last_query_polls", &LoopSession::last_query_polls,
+                             "the polls the last query made (its work)");
 }
 
 }  // namespace stripweave_python

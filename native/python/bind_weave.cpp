@@ -11,6 +11,8 @@
 //   skips the seeds and the coverage (scoring a candidate). Keys (model units):
 //     regions   [{"valence", "disc", "colour", "total_curvature",
 //                 "ideal_valence", "area", "singularities" (count),
+//                 "singularity_quarters" (each one's index in quarters: +1 at a
+//                 cube corner, -1 where five patches meet),
 //                 "seeds": [[x,y,z], ...], "clearance": [...]}]
 //               seeds by layout/weave_seeds.h (the first is the centre);
 //               "crossing_anchors": [[x,y,z,dx,dy,dz], ...] across the arcs
@@ -109,6 +111,9 @@ void bind_weave(py::module_& m) {
           x["ideal_valence"] = ideal_valence(g.total_curvature);
           x["area"] = g.area * scale2;
           x["singularities"] = g.singularities.size();
+          std::vector<int> quarters;
+          for (Index k : g.singularities) quarters.push_back(d.field().singularities[k].quarter_index);
+          x["singularity_quarters"] = quarters;
           py::list pts, clear;
           for (const SeedPoint& p : seeds[r]) {
             pts.append(model_point(s, p.point));

@@ -170,7 +170,7 @@ def cmd_weave(args):
                    patches=args.patches, features=not args.no_features, boundary=args.boundary, seed=args.seed,
                    step=args.step, verbose=True, target_triangles=args.target_triangles,
                    feature_angle_deg=args.feature_angle,
-                   time_limit_s=args.time_limit if args.time_limit > 0 else float("inf"))
+                   budget=args.budget, time_limit_s=args.time_limit if args.time_limit > 0 else float("inf"))
     report = {k: v for k, v in result.items() if k not in ("surface", "design", "log")}
     if args.json:
         print(json.dumps(report))
@@ -186,7 +186,9 @@ def cmd_weave(args):
         print(f"  strip {entry['strip'] + 1}: for the {entry['reason']}"
               f"{'' if entry['region'] < 0 else ' ' + str(entry['region'])} at "
               f"({', '.join(f'{x:.4g}' for x in entry['seed'])})")
-    print(f"weaving stopped: {result['stopped']}; took {result['timings_ms']['total'] / 1000:.1f} s")
+    print(f"weaving stopped: {result['stopped']} after {result['work']:g} work units"
+          + (f" ({result['cancelled_queries']} loop queries cut by the timeout)" if result["cancelled_queries"] else "")
+          + f"; took {result['timings_ms']['total'] / 1000:.1f} s")
     if "fit" in result:
         from .surfacing import format_fit
         print(format_fit(result["fit"]))
@@ -214,6 +216,7 @@ def _add_design_stage(sub, name, help, output, run):
 
 
 def build_parser():
+    from .weave import WeaveOptions   # its defaults are the CLI's
     parser = argparse.ArgumentParser(prog="stripweave", description="Dual Strip Weaving quad layouts")
     sub = parser.add_subparsers(dest="command", required=True)
 
@@ -256,9 +259,12 @@ def build_parser():
                    help="dual curves meet open boundaries orthogonally (aligned) or at any angle (trimmed); "
                         "default: the design's, else aligned")
     p.add_argument("--seed", type=int, default=0, help="vary which seed points are tried first (deterministic)")
-    p.add_argument("--time-limit", type=float, default=16.0, metavar="S",
-                   help="seconds of weaving after which only red regions are worked on (default 16; 0: no "
-                        "limit, so the result does not depend on the machine's speed)")
+    p.add_argument("--budget", type=float, default=WeaveOptions.budget, metavar="UNITS",
+                   help="work units of weaving after which only red regions are worked on (deterministic: a "
+                        f"loop query is 1, a strip derivation 4; default {WeaveOptions.budget:g})")
+    p.add_argument("--time-limit", type=float, default=WeaveOptions.time_limit_s, metavar="S",
+                   help="wall-clock safety net: seconds of weaving after which only red regions are worked on "
+                        f"(default {WeaveOptions.time_limit_s:g}, not reached on the shared models; 0: none)")
     p.add_argument("--json", action="store_true", help="print report.json's content (plus paths) on stdout")
     _add_surface_options(p)
     p.set_defaults(run=cmd_weave)

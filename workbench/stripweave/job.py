@@ -14,7 +14,9 @@ quad layout, layout.compute_layout) -> files. With `out`, writes
     preview.png   the layout on the shaded model (preview.py)
     patches.step  with step=True, when the build has the surfacing stage
 The returned dict is report.json's content plus "paths", "log" (one entry per added
-strip) and "stopped" (why weaving ended).
+strip), "stopped" (why weaving ended), "work" (units spent, weave.py) and
+"cancelled_queries" (loop queries cut by the timeout: the only machine-dependent step
+besides the wall-clock safety net).
 """
 import json
 import os
@@ -101,8 +103,8 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
     max_strips  strips at most (the given ones included); patches: target patch count (0: coarse)
     features    align to sharp feature curves; boundary: "aligned" | "trimmed" (default: the design's)
     seed        varies which seed points are tried first (deterministic)
-    time_limit_s, refine, uncovered, ...: see weave.WeaveOptions (time_limit_s=inf: the result
-                never depends on the machine's speed; only cancelled slow loop queries still can)
+    budget, time_limit_s, refine, uncovered, ...: see weave.WeaveOptions (budget: deterministic
+                work units; time_limit_s: the wall-clock safety net)
     step        also fit patches and write patches.step (needs the surfacing stage)
     """
     timings = {}
@@ -141,11 +143,11 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
     given = len(design.strips)
     ds = DesignSession(surface, design, loop_session=loop_session, features=features)
     lap("design")
-    log, stopped = [], "not asked (auto off)"
+    log, stopped, work, cancelled = [], "not asked (auto off)", 0.0, 0
     if auto:
         result = auto_weave(ds, WeaveOptions(max_strips=max_strips, patches=patches, seed=seed, verbose=verbose,
                                              **weave_options))
-        log, stopped = result.log, result.stopped
+        log, stopped, work, cancelled = result.log, result.stopped, result.work, result.cancelled_queries
     lap("weave")
     say("primal layout")
     layout = _layout_of(ds)
@@ -184,4 +186,5 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
             f.write("\n")
     say(f"{report['strips']} strips ({given} given), {report['patches']} patches, "
         f"{'valid' if report['valid'] else 'INVALID'}, {timings['total'] / 1000:.1f} s")
-    return {**report, "paths": paths, "log": log, "stopped": stopped, "surface": surface, "design": ds.design}
+    return {**report, "paths": paths, "log": log, "stopped": stopped, "work": work, "cancelled_queries": cancelled,
+            "surface": surface, "design": ds.design}

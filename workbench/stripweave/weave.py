@@ -8,24 +8,44 @@
 The paper's tool (§4) is interactive: the user hovers, the system proposes the best
 strip through the cursor (§5), the region colours (§4.2) say where strips are still
 needed. Automatic weaving plays the user: it picks seed points in the order
-    red regions (not discs: no valid layout yet), then orange (several singularities,
-    i.e. curvature extrema, in one region), then yellow (valence and curvature disagree),
-    then the largest area no strip covers,
+    red regions (not discs: no valid layout yet), then orange (several curvature extrema
+    of one kind in one region: extra_extrema), then yellow (valence and curvature
+    disagree), orange and yellow only where the region's vertex would have valence 2 or
+    6 and more (extreme_only), then the largest area no strip covers,
 asks for the best compatible loop there (several seed points per region: its centre,
 then farthest-point samples; ranked alternatives when those fail), scores each proposal
 by the assessment it would give, adds the best one, and rejects an addition that makes
-the assessment worse. When nothing is coloured and the uncovered area is small, a refine
-phase goes past the paper's colours: it splits the patch with the worst corner (a strip
-across its longest side) while the real layout's mean corner deviation drops. It stops at
-the deviation or patch target, the time limit (which never stops work on red regions), or
-the strip limit. Loop queries that run too long are cancelled (then, and only then, the
-result can depend on the machine's speed).
+the assessment worse. Red regions take the best-scored, cheapest proposal over all their
+seed points (a cube's first seed point is a corner, and a belt through a corner leaves a
+180-degree patch corner). Why orange and yellow only at valence 2 or 6+: on scans every
+strip brings new field singularities, and chasing every coloured region left the
+rocker-arm with 4 valence-2 and 3 valence-6 vertices (27 degrees mean corner deviation;
+19.9 without), while a cube needs its third belt to split the valence-2 lenses around
+pairs of corners. When no seed helps any more (or colour_share of the budget is spent), a
+refine phase splits the patch with the worst corner by a strip across its longest side,
+kept only if the real layout improves: its mean corner deviation (patches that do not
+read as quads counted 90 degrees off) plus region_penalty_deg per flaw of the assessment
+(flaws: extra extrema, valence mismatch, vertices of valence 2 or 6 and more the
+curvature does not ask for). For it an empty design gets a compatibility band (`band`),
+so that loops beside existing ones are allowed. It stops at the deviation or patch
+target, the work budget (which never stops work on red regions), or the strip limit.
+
+The work budget counts what weaving does, not how long it takes, so the same input gives
+the same design on any machine: a loop query is half a unit plus its own work count
+(WORK_PER_POLL per poll, one per 4096 settled g' nodes; queries run on one thread, where
+the count is exact, and stop at query_polls), scoring a candidate half a unit, deriving the
+design with a strip added or removed (field and parameterization, the dearest step) four,
+a primal layout one; a unit is 0.1 to 0.16 s on our 2-core machines when they are not
+shared. Two wall-clock safety nets stay, generous enough never to act on the shared
+models on an idle machine: time_limit_s for the whole weave and query_timeout_s per loop
+query. Only they can make the result depend on the machine's speed, and the result says
+when they acted (`stopped` "time limit (safety net)", `cancelled_queries`).
 
 A strip is added as one directional anchor (a g' node of the proposed loop: point and
 tangent), so that re-deriving the design (DesignState) finds the same loop quickly and
 deterministically. The same design and options always give the same result. All geometry
-(regions, centres, uncovered areas, anchors) is native (`weave_assessment`, `loop_anchor`);
-this module only decides.
+(regions, centres, uncovered areas, anchors, layouts) is native (`weave_assessment`,
+`loop_anchor`, `compute_layout`); this module only decides.
 """
 import os
 import sys
@@ -49,11 +69,18 @@ class WeaveOptions:
     seeds_per_region: int = 3       # seed points tried per region (centre first)
     alternatives: int = 3           # ranked alternatives tried when no seed point helps
     seed: int = 0                   # which seed point to try first (varies the result, deterministically)
-    time_limit_s: float = 16.0      # after this, only red regions are still worked on
+    budget: float = 120.0           # work units (module doc); past it, only red regions are worked on
+    time_limit_s: float = 90.0      # wall-clock safety net, same effect (inf: none)
+    band: float = 0.03              # refinement's compatibility_band (empty designs), in bbox diagonals (0: the paper's)
+    colours: tuple = COLOURS        # the region colours that get strips (red always does)
+    extreme_only: bool = True       # ... orange and yellow ones only where their vertex has valence 2 or 6+
+    colour_share: float = 0.5       # ... spending at most this share of the budget before refining
     refine: bool = True             # then split the patches with the worst corners (needs the layout)
+    region_penalty_deg: float = 5.0 # ... kept if the corners improve, each flaw of the assessment counted as this
     refine_deviation_deg: float = 12.0   # ... while the mean corner deviation is above this
     refine_patches: int = 160       # ... and the layout has fewer patches than this (0: no limit)
-    query_timeout_s: float = 6.0    # a loop query running longer is cancelled (no proposal there)
+    query_polls: int = 400          # a loop query doing more work is stopped (no proposal there; 0: no cap)
+    query_timeout_s: float = 20.0   # a loop query running longer is cancelled (wall-clock safety net)
     verbose: bool = False           # progress on stderr
 
     def check(self):
@@ -65,6 +92,13 @@ class WeaveOptions:
             raise native.InputError(f"the uncovered fraction must be within [0, 1], got {self.uncovered}")
         if self.seeds_per_region < 1 or self.alternatives < 1:
             raise native.InputError("seeds per region and alternatives must be at least 1")
+        if not self.budget >= 0:
+            raise native.InputError(f"the work budget must be 0 or more, got {self.budget}")
+        if not self.band >= 0 or not 0 <= self.colour_share <= 1 or self.query_polls < 0:
+            raise native.InputError("band and query polls must be 0 or more, the colour share within [0, 1]")
+        unknown = set(self.colours) - set(COLOURS)
+        if unknown:
+            raise native.InputError(f"unknown region colours {sorted(unknown)}: use {', '.join(COLOURS)}")
 
 
 @dataclass
@@ -73,6 +107,35 @@ class WeaveResult:
     assessment: dict = None
     stopped: str = ""                            # why weaving stopped
     time_ms: float = 0.0
+    work: float = 0.0                            # work units spent (module doc)
+    cancelled_queries: int = 0                   # loop queries cut by the timeout (machine-dependent)
+
+
+def extra_extrema(region):
+    """How many more curvature extrema of one kind an orange region holds than one vertex can
+    take: singularities of the same sign beyond the first (a lens around two cube corners: 1).
+    A pair of opposite signs (the +1/4, -1/4 dipoles noise leaves on a scan, next to each
+    other) is no extremum: splitting it only adds irregular vertices (measured: chasing every
+    orange region left scans with more irregular vertices and worse corners)."""
+    q = region.get("singularity_quarters")
+    if q is None:
+        return max(0, region["singularities"] - 1)
+    positive = sum(1 for x in q if x > 0)
+    negative = sum(1 for x in q if x < 0)
+    return max(0, positive - 1) + max(0, negative - 1)
+
+
+def flaws(a):
+    """The assessment's quality flaws (§4.2) in one number: curvature extrema of one kind
+    beyond the first in orange regions (extra_extrema), half the valence mismatch of yellow
+    regions, and each region whose vertex will have valence 2 or 6 and more where the
+    curvature does not ask for it (|valence - ideal| > 1/2): a valence-2 vertex is two 180
+    degree corners on a flat part, a valence-6 one six 60 degree corners."""
+    orange = sum(extra_extrema(r) for r in a["regions"] if r["colour"] == "orange")
+    yellow = sum(abs(r["valence"] - r["ideal_valence"]) for r in a["regions"] if r["colour"] == "yellow")
+    extreme = sum(1 for r in a["regions"] if r["disc"] and (r["valence"] == 2 or r["valence"] >= 6)
+                  and abs(r["valence"] - r["ideal_valence"]) > 0.5)
+    return orange + 0.5 * yellow + extreme
 
 
 def score(a):
@@ -85,7 +148,7 @@ def score(a):
     # then holes are joined by cuts between them (chi + 1): both count as progress.
     genus = sum(r["genus"] for r in red)
     badness = sum(max(1, abs(1 - r["euler_characteristic"])) for r in red)
-    orange = sum(max(0, r["singularities"] - 1) for r in a["regions"] if r["colour"] == "orange")
+    orange = sum(extra_extrema(r) for r in a["regions"] if r["colour"] == "orange")
     yellow = sum(abs(r["valence"] - r["ideal_valence"]) for r in a["regions"] if r["colour"] == "yellow")
     return (genus, badness, orange + 0.5 * yellow)
 
@@ -94,8 +157,10 @@ def seeds_in_order(a, options, skip):
     """(reason, region id, colour, [points]) in the order the issue asks: red, orange, yellow
     regions (each colour largest first), then the largest uncovered area."""
     out = []
-    for colour in COLOURS:
-        regions = [(i, r) for i, r in enumerate(a["regions"]) if r["colour"] == colour]
+    for colour in (c for c in COLOURS if c == "red" or c in options.colours):
+        regions = [(i, r) for i, r in enumerate(a["regions"])
+                   if r["colour"] == colour and (colour != "orange" or extra_extrema(r) > 0)
+                   and (colour == "red" or not options.extreme_only or r["valence"] <= 2 or r["valence"] >= 6)]
         for i, r in sorted(regions, key=lambda x: (-x[1]["area"], x[0])):
             points = [p for p in r["seeds"] if _key(p) not in skip]
             if points:
@@ -131,13 +196,43 @@ def _say(options, text):
         print(f"stripweave weave: {text}", file=sys.stderr, flush=True)
 
 
+# Work units per step (module doc), in proportion to their typical cost: a loop query
+# costs by its own work count (polls, one per 4096 settled g' nodes, exact with one thread).
+WORK_QUERY, WORK_PER_POLL, WORK_ASSESS, WORK_DERIVE, WORK_LAYOUT = 0.5, 0.04, 0.5, 4.0, 1.0
+
+
 class _Weaver:
     def __init__(self, ds, options):
         self.ds, self.options = ds, options
         self.session = ds.loop_session.native
+        self.work = 0.0             # units spent (module doc)
+        self.cancelled = 0          # loop queries cut by the timeout
+        self.limited = 0            # loop queries stopped at their work cap (deterministic)
+        self.user_strips = len(ds.design.strips)
+
+    def out_of_work(self, elapsed):
+        """Whether the budget (deterministic) or the safety net (wall clock) is used up."""
+        return self.work >= self.options.budget or elapsed() > self.options.time_limit_s
+
+    def why_out(self, elapsed):
+        return "work budget" if self.work >= self.options.budget else "time limit (safety net)"
 
     def assess(self, extra=(), seeds=True):
+        self.work += WORK_ASSESS
         return native.weave_assessment(self.ds.native, list(extra), self.options.seeds_per_region if seeds else 0)
+
+    def quality(self, a, layout):
+        """What additions past validity lower: the real layout's mean corner deviation, plus
+        region_penalty_deg per flaw the assessment sees (flaws())."""
+        return _deviation(layout) + self.options.region_penalty_deg * flaws(a)
+
+    def layout(self):
+        self.work += WORK_LAYOUT
+        return _layout(self.ds)
+
+    def remove(self, index):
+        self.work += WORK_DERIVE
+        self.ds.remove_strip(index)
 
     def proposals(self, point, alternatives):
         """Loops through the point, best first; when the all-directions query gives nothing in
@@ -161,23 +256,33 @@ class _Weaver:
             if alternatives <= 1 and len(point) == 3:
                 return [self.session.best_loop(list(point), True)]
             return list(self.session.loops([list(point)], alternatives, True))
-        except (native.InputError, native.Cancelled):
+        except native.InputError:
+            return []
+        except native.Cancelled:
+            if self.session.query_limited:
+                self.limited += 1
+            else:
+                self.cancelled += 1
             return []
         finally:
+            self.work += WORK_QUERY + WORK_PER_POLL * self.session.last_query_polls
             watchdog.cancel()
             self.session.clear_disabled()
 
-    def candidates(self, points, alternatives, current):
-        """(score, cost, loop, point) of proposals at the points, best first. Points are tried
-        in order and the search stops at the first point whose proposals improve on
-        `current`: the region's centre usually does, and each further point costs a loop
-        search and an arrangement."""
+    def candidates(self, points, alternatives, current, every_point=False):
+        """(score, cost, loop, point) of proposals at the points, best first (equal scores:
+        the cheaper loop). Points are tried in order and, unless `every_point`, the search
+        stops at the first point whose proposals improve on `current`: the region's centre
+        usually does, and each further point costs a loop search and an arrangement. Red
+        regions ask every point: the first strips fix the layout's coarse structure, and the
+        first seed point can be a poor place for a loop (a cube's corner, where the belt
+        through it costs three times a belt over the faces and leaves a 180-degree corner)."""
         out = []
         for point in points:
             for loop in self.proposals(point, alternatives):
                 a = self.assess([loop], seeds=False)
                 out.append((score(a), loop.cost, loop, point, a))
-            if out and min(c[0] for c in out) < current:
+            if out and min(c[0] for c in out) < current and not every_point:
                 break
         out.sort(key=lambda c: (c[0], c[1]))
         return out
@@ -189,6 +294,7 @@ class _Weaver:
             d = self.ds.design.copy()
             d.add_strip([anchor])
             d.save(_DEBUG_DESIGN)
+        self.work += WORK_DERIVE
         try:
             index = self.ds.add_strip([anchor])
         except native.InputError:
@@ -202,21 +308,63 @@ def _layout(ds):
 
 
 def _deviation(layout):
-    return layout["summary"]["corner_deviation_deg"]["mean"] if layout["valid"] and layout["patches"] else 180.0
+    """The mean corner deviation from 90 degrees that refinement lowers: report.json's mean,
+    with every patch whose boundary does not read as four sides counted as four corners
+    90 degrees off (report.json leaves them out, and a strip that breaks patches must not
+    look like an improvement)."""
+    if not layout["valid"] or not layout["patches"]:
+        return 180.0
+    total = corners = 0
+    for p in layout["patches"]:
+        angles = p["corner_angles_deg"] if p.get("quad", True) else ()
+        total += sum(abs(x - 90.0) for x in angles) + 90.0 * (4 - len(angles))
+        corners += 4
+    return total / corners
+
+
+def _across(layout, patch):
+    """A directional anchor at the middle of the patch's longest side, pointing across the
+    patch to the middle of the opposite side: the loop there splits the patch along its
+    length (it crosses the longest side and its opposite, beside the loop that already
+    does)."""
+    sides = layout["patches"][patch]["edges"]
+    k = max(range(len(sides)), key=lambda j: (layout["edges"][sides[j]]["length"], -sides[j]))
+    def middle(e):
+        points = layout["edges"][e]["points"]
+        return points[len(points) // 2]
+    p = middle(sides[k])
+    if len(sides) != 4:
+        return list(p)
+    q = middle(sides[(k + 2) % 4])
+    d = [b - a for a, b in zip(p, q)]
+    return list(p) + d if any(d) else list(p)
 
 
 def _refine(w, ds, options, a, result, elapsed):
     """Past the paper's colours: a region can be fine by §4.2 and still give patches with
     corners far from 90 degrees (a cube-like layout wrapped on a cylinder). Split the worst
-    patch by the best strip across its longest side (seeded at that side's middle), keep it
-    if the mean corner deviation of the real layout drops, until the deviation or the patch
-    count is reached or time runs out."""
+    patch by the best strip across its longest side (a directional anchor at that side's
+    middle, pointing across the patch), keep it if the real layout improves (w.quality),
+    until the deviation or the patch target is reached or the work budget is spent."""
+    if options.band and ds.design.options.get("compatibility_band") is None and w.user_strips == 0:
+        # Refinement splits patches by loops beside the ones there: the paper's mask refuses
+        # every loop parallel to a strip anywhere on it, a band only near its loop. Not
+        # earlier: with the band, the colour phase's best loops ran beside the first ones
+        # (a filleted box stayed two lens patches), where the paper's mask leaves only the
+        # crossing belt. An empty design only: a user's strips keep the mask they were drawn
+        # under. design.json keeps the band, so the design re-derives the same.
+        band = options.band * ds.surface.report()["bbox_diagonal"]
+        ds.design.options["compatibility_band"] = band
+        ds.native.compatibility_band = band
+        w.work += WORK_DERIVE
+        ds.update()
+        a = w.assess()
     try:
-        layout = _layout(ds)
+        layout = w.layout()
     except ImportError:
         return a
     tried = set()
-    while len(ds.design.strips) < options.max_strips and elapsed() < options.time_limit_s:
+    while len(ds.design.strips) < options.max_strips and not w.out_of_work(elapsed):
         deviation = _deviation(layout)
         patches = len(layout["patches"])
         if deviation <= options.refine_deviation_deg:
@@ -226,21 +374,30 @@ def _refine(w, ds, options, a, result, elapsed):
         if limit and patches >= limit:
             result.stopped = "patch target"
             break
-        # Patches by their worst corner, then the middle of each one's longest side.
+        # Patches by their worst corner, then across each one's longest side (a patch that is
+        # not a quad has no sides to go across).
         order = sorted(range(patches), key=lambda i: -max((abs(x - 90) for x in layout["patches"][i]["corner_angles_deg"]),
-                                                          default=0.0))
+                                                          default=90.0))
         seed = None
         for i in order:
-            sides = sorted(layout["patches"][i]["edges"], key=lambda e: (-layout["edges"][e]["length"], e))
-            points = layout["edges"][sides[0]]["points"]
-            p = points[len(points) // 2]
-            if _key(p) not in tried:
+            if not layout["patches"][i].get("quad", True):
+                continue
+            p = _across(layout, i)
+            if _key(p[:3]) not in tried:
                 seed, worst = p, i
                 break
         if seed is None:
+            # No quad patch left to split (a coarse layout of patches that do not read as
+            # quads): the largest regions' seed points, any direction.
+            for i, r in sorted(enumerate(a["regions"]), key=lambda x: (-x[1]["area"], x[0])):
+                seed = next((list(p) for p in r.get("seeds", ()) if _key(p) not in tried), None)
+                if seed is not None:
+                    worst = f"of region {i}"
+                    break
+        if seed is None:
             result.stopped = "no seed helps"
             break
-        tried.add(_key(seed))
+        tried.add(_key(seed[:3]))
         _say(options, f"strip {len(ds.design.strips) + 1}: refine patch {worst} (corner deviation "
                       f"{deviation:.1f} deg, {patches} patches, {elapsed():.1f} s)")
         proposals = w.proposals(seed, 1)
@@ -249,20 +406,21 @@ def _refine(w, ds, options, a, result, elapsed):
         index = w.add(proposals[0], seed)
         if index is None:
             continue
-        after_layout = _layout(ds)
+        after_layout = w.layout()
         after = w.assess()
-        if after["colours"]["red"] or score(after)[0] > score(a)[0] or _deviation(after_layout) >= deviation:
-            ds.remove_strip(index)
+        if after["colours"]["red"] or score(after)[0] > score(a)[0] or \
+                w.quality(after, after_layout) >= w.quality(a, layout):
+            w.remove(index)
             continue
         ds.design.strips[index].extra["added_by"] = {"reason": "corner deviation", "region": -1,
-                                                     "colour": "none", "seed": [float(x) for x in seed]}
+                                                     "colour": "none", "seed": [float(x) for x in seed[:3]]}
         result.log.append({"strip": index, "reason": "corner deviation", "region": -1, "colour": "none",
-                           "seed": [float(x) for x in seed], "anchor": ds.design.strips[index].anchors[0].to_list(),
+                           "seed": [float(x) for x in seed[:3]], "anchor": ds.design.strips[index].anchors[0].to_list(),
                            "cost": proposals[0].cost, "deviation_before": deviation,
                            "deviation_after": _deviation(after_layout), "time_s": round(elapsed(), 3)})
         a, layout = after, after_layout
     else:
-        result.stopped = "max strips" if len(ds.design.strips) >= options.max_strips else "time limit"
+        result.stopped = "max strips" if len(ds.design.strips) >= options.max_strips else w.why_out(elapsed)
     return a
 
 
@@ -272,6 +430,18 @@ def auto_weave(ds, options=None):
     options = options or WeaveOptions()
     options.check()
     w = _Weaver(ds, options)
+    # Loop queries on one thread, with a cap on their work: both make each query's outcome
+    # the same on any machine (two threads share the search's bound by timing).
+    w.session.set_threads(1)
+    w.session.max_query_polls = options.query_polls
+    try:
+        return _weave(w, ds, options)
+    finally:
+        w.session.max_query_polls = 0
+        w.session.set_threads(min(2, os.cpu_count() or 1))   # the session's default
+
+
+def _weave(w, ds, options):
     start = time.perf_counter()
     result = WeaveResult()
     a = w.assess()
@@ -294,8 +464,13 @@ def auto_weave(ds, options=None):
             result.stopped = "patch target"
             break
         seeds = seeds_in_order(a, options, skip)
-        if valid and elapsed() > options.time_limit_s:
-            result.stopped = "time limit"
+        if valid and w.out_of_work(elapsed):
+            result.stopped = w.why_out(elapsed)
+            break
+        if valid and a["crossings"] and options.refine and w.work >= options.colour_share * options.budget:
+            # The rest of the budget goes to refinement, which splits the worst patches: on
+            # scans the colour seeds mostly give strips the real layout does not keep.
+            result.stopped = "no seed helps"
             break
         if not seeds and a["colours"]["red"] and not escalated:
             # Invalid and out of ideas: look harder once (more seed points per region, more
@@ -308,7 +483,8 @@ def auto_weave(ds, options=None):
             a = w.assess()
             continue
         if not seeds:
-            result.stopped = "done" if valid and not a["colours"]["orange"] + a["colours"]["yellow"] else "no seed helps"
+            colours_left = sum(a["colours"][c] for c in ("orange", "yellow") if c in options.colours)
+            result.stopped = "done" if valid and not colours_left else "no seed helps"
             break
         reason, region, colour, points = seeds[0]
         _say(options, f"strip {len(ds.design.strips) + 1}: {reason} {region} "
@@ -319,7 +495,7 @@ def auto_weave(ds, options=None):
         # Ranked alternatives (slow: a second search per rank) only where validity is at stake.
         for alternatives in ((1, options.alternatives) if colour == "red" else (1,)):
             tried = points if alternatives == 1 else points[:1]
-            for s, cost, loop, point, predicted in w.candidates(tried, alternatives, current):
+            for s, cost, loop, point, predicted in w.candidates(tried, alternatives, current, colour == "red"):
                 improves = s < current
                 if colour == "red" and not improves and s[:2] <= current[:2] and stalls < 3:
                     improves = True   # a handle can take two loops to cut (a torus: meridian, then equator)
@@ -344,7 +520,7 @@ def auto_weave(ds, options=None):
                 no_gain = colour == "uncovered" and after["uncovered"]["area"] >= a["uncovered"]["area"] \
                     and after["crossings"] <= a["crossings"]
                 if worse or no_gain:
-                    ds.remove_strip(index)   # the re-derived design is worse than predicted: reject
+                    w.remove(index)          # the re-derived design is worse than predicted: reject
                     continue
                 stalls = stalls + 1 if score(after)[:2] >= current[:2] and colour == "red" else 0
                 added = {"strip": index, "reason": reason, "region": region, "colour": colour,
@@ -363,11 +539,13 @@ def auto_weave(ds, options=None):
         for p in points:      # nothing helped from this region's seeds: do not ask again
             skip.add(_key(p))
 
-    if result.stopped == "done" and options.refine:
+    if options.refine and a["colours"]["red"] == 0 and result.stopped in ("done", "no seed helps"):
         a = _refine(w, ds, options, a, result, elapsed)
     result.assessment = a
     result.time_ms = elapsed() * 1000.0
+    result.work, result.cancelled_queries = w.work, w.cancelled
     _say(options, f"{result.stopped}: {len(ds.design.strips)} strips ({user_strips} given, "
                   f"{len(result.log)} added), red {a['colours']['red']}, orange {a['colours']['orange']}, "
-                  f"yellow {a['colours']['yellow']}, {elapsed():.1f} s")
+                  f"yellow {a['colours']['yellow']}, work {w.work:g}, {elapsed():.1f} s"
+                  + (f", {w.cancelled} loop queries cut by the timeout" if w.cancelled else ""))
     return result

@@ -34,9 +34,22 @@ auto LoopSession::run_query(F&& query) {
   const std::uint64_t mine = ++generation_;
   std::lock_guard<std::mutex> lock(query_mutex_);
   if (generation_.load() != mine) throw Cancelled();
-  SearchContext ctx{*surface_, graph_, disabled_, [this, mine] {
+  query_limited_ = false;
+  std::atomic<std::uint64_t> polls{0};
+  const std::uint64_t limit = max_query_polls;
+  SearchContext ctx{*surface_, graph_, disabled_, [this, mine, &polls, limit] {
                       if (generation_.load() != mine) throw Cancelled();
+                      const std::uint64_t n = ++polls;
+                      if (limit && n > limit) {
+                        query_limited_ = true;
+                        throw Cancelled();
+                      }
                     }, mask_symmetric_};
+  struct Count {  // the polls, however the query ends
+    std::atomic<std::uint64_t>& polls;
+    std::atomic<std::uint64_t>& last;
+    ~Count() { last = polls.load(); }
+  } count{polls, last_query_polls_};
   return query(ctx);
 }
 

@@ -56,6 +56,17 @@ class LoopSession {
   // Cancel the running query, if any.
   void cancel() { ++generation_; }
 
+  // A deterministic cap on a query's work: past this many cancellation polls
+  // (one per 4096 settled g' nodes) the query raises Cancelled and
+  // query_limited() is true until the next query. 0: no cap. Why: automatic
+  // weaving must give the same design on any machine, so it cannot stop a
+  // hopeless query (no compatible loop through a point, every direction
+  // searched to the end) by the clock. The count is exact with one thread;
+  // with two it depends on how the threads share the starts.
+  std::uint64_t max_query_polls = 0;
+  bool query_limited() const { return query_limited_; }
+  std::uint64_t last_query_polls() const { return last_query_polls_; }
+
  private:
   template <typename F>
   auto run_query(F&& query);
@@ -69,6 +80,8 @@ class LoopSession {
   std::vector<SearchWorkspaces> workspaces_;  // one per search thread
   std::mutex query_mutex_;
   std::atomic<std::uint64_t> generation_{0};
+  std::atomic<bool> query_limited_{false};
+  std::atomic<std::uint64_t> last_query_polls_{0};
   double build_ms_ = 0;
 };
 

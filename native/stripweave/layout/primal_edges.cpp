@@ -30,14 +30,6 @@ namespace {
 constexpr double kCheap = 0.4;
 constexpr double kOnLoop = 4.0;
 
-// Whether the refined triangle t holds the directed edge a -> b.
-bool has_directed(const TriangleMesh& m, Index t, Index a, Index b) {
-  const Tri& f = m.triangles[t];
-  for (int i = 0; i < 3; ++i)
-    if (f[i] == a && f[(i + 1) % 3] == b) return true;
-  return false;
-}
-
 }  // namespace
 
 std::vector<PrimalEdge> route_primal_edges(const PrimalContext& ctx, const std::vector<Index>& vertex_wedge,
@@ -56,19 +48,7 @@ std::vector<PrimalEdge> route_primal_edges(const PrimalContext& ctx, const std::
   std::vector<Index> pred;
   const std::vector<double> dist = ctx.shortest_paths(vertex_wedge, cost, blocked, &pred);
 
-  // The wedges (left, right) of arc vertex i: the sides of the arc's edge i
-  // (or i - 1 for the last vertex of an open arc).
-  auto sides = [&](const LoopArc& arc, size_t i) {
-    const size_t n = arc.edges.size();
-    const size_t k = i < n ? i : n - 1;
-    const Index a = arc.vertices[k], b = arc.vertices[(k + 1) % arc.vertices.size()];
-    const auto& et = rt.edge_triangles[arc.edges[k]];
-    Index left = et[0], right = et[1];
-    if (!has_directed(m, left, a, b)) std::swap(left, right);
-    const Index x = arc.vertices[i];
-    auto wedge = [&](Index t) { return t == kInvalid ? kInvalid : ctx.wedges.of(t, corner_of(m, t, x)); };
-    return std::pair<Index, Index>(wedge(left), wedge(right));
-  };
+  auto sides = [&](const LoopArc& arc, size_t i) { return ctx.arc_side_wedges(&arc - A.arcs.data(), i); };
   auto trace = [&](Index w) {
     std::vector<Index> path;
     for (; w != kInvalid; w = pred[w]) path.push_back(ctx.wedges.vertex[w]);

@@ -5,19 +5,22 @@
 // kink inside a patch. A region touching the open boundary must put its
 // vertex there so that the boundary is covered by primal edges. A region
 // that a sharp feature curve runs through puts its vertex on the crease
-// (the point of it farthest from the loops), so that the primal edges can
+// (the point of it where the sides balance), so that the primal edges can
 // follow the crease to the neighbouring regions' vertices: a vertex off the
 // crease leaves the crease inside its patches (a capped cylinder's "box"
 // design would get cap-and-side patches folded over the rim, which no
 // B-spline patch fits). Otherwise the region's one singularity is the irregular vertex the field asks for
 // (a region of valence != 4 holds at least one), unless it lies closer to
-// the loops than half the region's inradius; failing that the point
-// farthest from the loops keeps the vertex well inside its corridor.
+// the loops than half the region's inradius; failing that the region's
+// balanced centre (primal_vertex_balance.cpp), where the middles of its
+// corridors cross, as the paper's crossing elastica curves do. On a crease
+// or the boundary the vertex also takes the point where the sides balance.
 #include "stripweave/layout/primalization.h"
 
 #include "stripweave/surface/angle_defects.h"
 
 #include <cmath>
+#include <limits>
 
 namespace stripweave {
 
@@ -67,16 +70,30 @@ std::vector<PrimalVertex> place_primal_vertices(const PrimalContext& ctx, const 
   const std::vector<double> clearance = ctx.shortest_paths(
       on_loops, [&](Index e) { return ctx.edge_length[e]; }, [](Index) { return false; }, nullptr);
 
-  // Candidates per region, each rule keeping its best wedge.
+  // Where the region's sides balance (primal_vertex_balance.cpp): the
+  // centre, and the point of a crease or the boundary a vertex goes to.
+  const std::vector<double> balance = side_balance(ctx);
+
+  // Candidates per region, each rule keeping its best wedge (largest value).
   // The rules in the order of VertexPlacement.
   enum { kCorner, kBoundary, kFeature, kSingularity, kCentre, kRules };
   std::vector<std::array<Index, kRules>> best(nr, {kInvalid, kInvalid, kInvalid, kInvalid, kInvalid});
-  std::vector<std::array<double, kRules>> score(nr, {-1.0, -1.0, -1.0, -1.0, -1.0});
+  const double lowest = -std::numeric_limits<double>::infinity();
+  std::vector<std::array<double, kRules>> score(nr, {lowest, lowest, lowest, lowest, lowest});
+  // Per region the largest clearance, and the largest on a crease and on the boundary.
+  std::vector<double> inradius(nr, 0.0), crease_clearance(nr, -1.0), boundary_clearance(nr, -1.0);
   // Refined vertices on a sharp feature curve.
   std::vector<std::uint8_t> on_feature(A.mesh.num_vertices(), 0);
   for (Index e = 0; e < A.topology.num_edges(); ++e)
     if (ctx.edge_feature[e])
       for (Index v : A.topology.edges[e]) on_feature[v] = 1;
+  for (Index w = 0; w < nw; ++w) {
+    const Index v = ctx.wedges.vertex[w], r = ctx.wedge_region[w];
+    if (ctx.vertex_on_loop[v]) continue;
+    inradius[r] = std::max(inradius[r], clearance[w]);
+    if (on_feature[v]) crease_clearance[r] = std::max(crease_clearance[r], clearance[w]);
+    if (ctx.vertex_on_boundary[v]) boundary_clearance[r] = std::max(boundary_clearance[r], clearance[w]);
+  }
   auto offer = [&](Index rule, Index w, double value) {
     const Index r = ctx.wedge_region[w];
     if (value > score[r][rule]) score[r][rule] = value, best[r][rule] = w;
@@ -85,17 +102,23 @@ std::vector<PrimalVertex> place_primal_vertices(const PrimalContext& ctx, const 
   for (Index w = 0; w < nw; ++w) {
     const Index v = ctx.wedges.vertex[w];
     if (ctx.vertex_on_loop[v]) continue;  // a vertex on a loop would sit on its own dual edge
+    const Index r = ctx.wedge_region[w];
     const Index sv = A.original_vertex[v];
+    const double centred = -balance[w];  // offer keeps the largest
     if (sv != kInvalid && sv < surface_vertices && strength[sv] > 0) offer(kCorner, w, strength[sv]);
-    if (ctx.vertex_on_boundary[v]) offer(kBoundary, w, clearance[w]);
-    if (on_feature[v]) offer(kFeature, w, clearance[w]);
-    offer(kCentre, w, clearance[w]);
+    // On a crease or the boundary the sides balance only among the points at least half
+    // as far from the loops as its farthest: the least sum of squares alone can sit near
+    // a loop where the crease runs close to it (a lofted box's rim vertices came in pairs
+    // a few units apart, and its patches no longer fitted within tolerance).
+    if (ctx.vertex_on_boundary[v] && clearance[w] >= 0.5 * boundary_clearance[r]) offer(kBoundary, w, centred);
+    if (on_feature[v] && clearance[w] >= 0.5 * crease_clearance[r]) offer(kFeature, w, centred);
+    offer(kCentre, w, centred);
   }
   // A crease that only clips the region near its loops (less than a quarter
   // of the region's inradius from them) would squeeze the vertex's patches:
   // it does not take the vertex.
   for (Index r = 0; r < nr; ++r)
-    if (best[r][kFeature] != kInvalid && score[r][kFeature] < 0.25 * score[r][kCentre]) best[r][kFeature] = kInvalid;
+    if (best[r][kFeature] != kInvalid && crease_clearance[r] < 0.25 * inradius[r]) best[r][kFeature] = kInvalid;
   for (Index r = 0; r < nr; ++r) {
     const Region& region = ctx.regions.regions[r];
     if (region.singularities.size() != 1) continue;
@@ -108,7 +131,7 @@ std::vector<PrimalVertex> place_primal_vertices(const PrimalContext& ctx, const 
       // region's inradius from them) would squeeze its patches' corners;
       // the centre serves the region better then.
       if (ctx.wedge_region[w] == r && !ctx.vertex_crossing[sv]) {
-        if (clearance[w] >= 0.5 * score[r][kCentre]) best[r][kSingularity] = w;
+        if (clearance[w] >= 0.5 * inradius[r]) best[r][kSingularity] = w;
         break;
       }
     }

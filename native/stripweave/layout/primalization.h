@@ -7,7 +7,9 @@
 //   per refined edge, and which refined edges lie on sharp features or on
 //   the open boundary.
 //
-// place_primal_vertices  one vertex per region (rules in quad_layout.h);
+// place_primal_vertices  one vertex per region (rules in quad_layout.h;
+//                        the balance of the region's sides in
+//                        primal_vertex_balance.cpp);
 //                        fills vertex_wedge (per region, the wedge it is at)
 // route_primal_edges     one edge per arc (quad_layout.h)
 // straighten_primal_edges  relax the edges' zig-zag on the surface; fills
@@ -42,7 +44,18 @@ struct PrimalContext {
   // the previous wedge on the path (kInvalid at sources).
   std::vector<double> shortest_paths(const std::vector<Index>& sources, const std::function<double(Index)>& cost,
                                      const std::function<bool(Index)>& blocked, std::vector<Index>* pred) const;
+
+  // The wedges (left, right) at vertex i of arc k: the two sides of the
+  // arc's edge i (edge i - 1 for the last vertex of an open arc); kInvalid
+  // on a side that is the open boundary.
+  std::pair<Index, Index> arc_side_wedges(Index k, size_t i) const;
 };
+
+// Per wedge, the sum over its region's sides (a side per arc side facing
+// the region) of the squared distance to that side within the region,
+// normalized units squared: least at the region's balanced centre
+// (primal_vertex_balance.cpp).
+std::vector<double> side_balance(const PrimalContext& ctx);
 
 std::vector<PrimalVertex> place_primal_vertices(const PrimalContext& ctx, const std::vector<Singularity>& singularities,
                                                 std::vector<Index>& vertex_wedge);

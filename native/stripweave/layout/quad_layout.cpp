@@ -24,6 +24,14 @@ Index surface_edge_under(const Surface& s, const LoopArrangement& A, Index a, In
   return kInvalid;
 }
 
+// Whether the refined triangle t holds the directed edge a -> b.
+bool has_directed(const TriangleMesh& m, Index t, Index a, Index b) {
+  const Tri& f = m.triangles[t];
+  for (int i = 0; i < 3; ++i)
+    if (f[i] == a && f[(i + 1) % 3] == b) return true;
+  return false;
+}
+
 }  // namespace
 
 PrimalContext::PrimalContext(const Surface& s, const LoopArrangement& a, const Regions& g)
@@ -107,6 +115,20 @@ std::vector<double> PrimalContext::shortest_paths(const std::vector<Index>& sour
     }
   }
   return dist;
+}
+
+std::pair<Index, Index> PrimalContext::arc_side_wedges(Index k, size_t i) const {
+  const TriangleMesh& m = arrangement.mesh;
+  const LoopArc& arc = arrangement.arcs[k];
+  const size_t n = arc.edges.size();
+  const size_t j = i < n ? i : n - 1;
+  const Index a = arc.vertices[j], b = arc.vertices[(j + 1) % arc.vertices.size()];
+  const auto& et = arrangement.topology.edge_triangles[arc.edges[j]];
+  Index left = et[0], right = et[1];
+  if (!has_directed(m, left, a, b)) std::swap(left, right);
+  const Index x = arc.vertices[i];
+  auto wedge = [&](Index t) { return t == kInvalid ? kInvalid : wedges.of(t, corner_of(m, t, x)); };
+  return {wedge(left), wedge(right)};
 }
 
 QuadLayout build_quad_layout(const Surface& s, const LoopArrangement& A, const Regions& G,

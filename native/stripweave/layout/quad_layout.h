@@ -15,12 +15,15 @@
 //               region (a boundary corner, or where three or more sharp
 //               feature curves meet), a point on the open boundary if the
 //               region touches it, a point on a sharp feature curve
-//               running through the region (the farthest from the loops,
-//               unless nearer to them than a quarter of the region's
-//               inradius), the region's single cross-field
-//               singularity (unless it is closer to the loops than half the
-//               region's inradius), else its geodesic centre (the point
-//               farthest from the loops).
+//               running through the region (where the region's sides
+//               balance, unless the crease keeps nearer to the loops than a
+//               quarter of the region's inradius), the region's single
+//               cross-field singularity (unless it is closer to the loops
+//               than half the region's inradius), else its balanced centre:
+//               the point with the least sum of squared distances to its
+//               sides, where the corridors' middles cross
+//               (primal_vertex_balance.cpp). A boundary vertex also goes
+//               where the sides balance.
 //     edges     primal_edges.cpp: shortest paths in the region cut open along
 //               the loops (each region's shortest-path tree from its vertex,
 //               so edges leaving a vertex never cross; edges of different
