@@ -261,3 +261,22 @@ def test_bad_options_are_named(cube):
         sw.weave(cube, boundary="sideways")
     with pytest.raises(native.InputError, match="work budget"):
         sw.weave(cube, budget=-1)
+
+
+def test_cli_step_on_a_red_layout_keeps_the_outputs_and_says_why(tmp_path):
+    """A torus with a meridian alone has a red region: no STEP, but design, layout and
+    report are written, report.json's fit block says why, and the error names the folder."""
+    model = tmp_path / "torus.brep"
+    torus(10, 3).exportBrep(str(model))
+    design = tmp_path / "meridian.json"
+    Design([[(13, 0, 0, 0, 0, 1)]]).save(str(design))
+    out = tmp_path / "out"
+    run = subprocess.run([CLI, "weave", str(model), "--design", str(design), "--step", "--out", str(out),
+                          "--target-triangles", "6000"], capture_output=True, text=True, timeout=300)
+    assert run.returncode == 1
+    assert "not valid" in run.stderr and str(out) in run.stderr and "Traceback" not in run.stderr
+    for name in ("design.json", "layout.json", "report.json"):
+        assert (out / name).is_file()
+    assert not (out / "patches.step").exists()
+    report = json.loads((out / "report.json").read_text())
+    assert report["valid"] is False and "red regions" in report["fit"]["error"]

@@ -154,6 +154,7 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
     lap("layout")
     report = make_report(ds, layout, {})
     paths = {}
+    step_error = None
     if out is not None:
         os.makedirs(out, exist_ok=True)
         paths = {name: os.path.join(out, f"{name}.{ext}") for name, ext in
@@ -171,10 +172,17 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
         if step:
             say("fitting patches (STEP)")
             paths["step"] = os.path.join(out, "patches.step")
-            if not layout["valid"]:
-                raise native.InputError("cannot fit patches: the layout is not valid (red regions remain)")
-            tol = tolerance if tolerance is not None else 1e-3 * report["bbox_diagonal"]
-            report["fit"] = _export_step(ds, tol, paths["step"])
+            try:
+                if not layout["valid"]:
+                    raise native.InputError("cannot fit patches: the layout is not valid (red regions remain)")
+                tol = tolerance if tolerance is not None else 1e-3 * report["bbox_diagonal"]
+                report["fit"] = _export_step(ds, tol, paths["step"])
+            except native.InputError as exc:
+                # The design and its layout are still worth having: report.json says why
+                # there is no STEP, and the error names the folder.
+                report["fit"] = {"error": str(exc)}
+                del paths["step"]
+                step_error = native.InputError(f"{exc} (design, layout and report are in {out})")
             lap("step")
     timings.update({f"strips_{k}": v for k, v in ds.timings_ms().items()})
     timings.update({f"layout_{k}": v for k, v in layout.get("timings_ms", {}).items()})
@@ -184,6 +192,8 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
         with open(paths["report"], "w", encoding="utf-8") as f:
             json.dump(report, f, indent=2)
             f.write("\n")
+    if step_error is not None:
+        raise step_error
     say(f"{report['strips']} strips ({given} given), {report['patches']} patches, "
         f"{'valid' if report['valid'] else 'INVALID'}, {timings['total'] / 1000:.1f} s")
     return {**report, "paths": paths, "log": log, "stopped": stopped, "work": work, "cancelled_queries": cancelled,
