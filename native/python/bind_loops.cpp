@@ -145,6 +145,7 @@ void bind_loops(py::module_& m) {
       })
       .def("set_threads", &LoopSession::set_threads, py::arg("threads"),
            "threads a query may use (default: two, one per core)")
+      .def_property_readonly("threads", &LoopSession::threads, "threads a query may use")
       .def("set_disabled", &LoopSession::set_disabled, py::arg("nodes"), py::arg("disabled") = true)
       .def("clear_disabled", &LoopSession::clear_disabled)
       .def("cancel", &LoopSession::cancel)

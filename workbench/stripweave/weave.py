@@ -131,11 +131,17 @@ def flaws(a):
     regions, and each region whose vertex will have valence 2 or 6 and more where the
     curvature does not ask for it (|valence - ideal| > 1/2): a valence-2 vertex is two 180
     degree corners on a flat part, a valence-6 one six 60 degree corners."""
-    orange = sum(extra_extrema(r) for r in a["regions"] if r["colour"] == "orange")
-    yellow = sum(abs(r["valence"] - r["ideal_valence"]) for r in a["regions"] if r["colour"] == "yellow")
     extreme = sum(1 for r in a["regions"] if r["disc"] and (r["valence"] == 2 or r["valence"] >= 6)
                   and abs(r["valence"] - r["ideal_valence"]) > 0.5)
-    return orange + 0.5 * yellow + extreme
+    return colour_flaws(a) + extreme
+
+
+def colour_flaws(a):
+    """Orange and yellow regions in one number (§4.2): curvature extrema of one kind beyond
+    the first (extra_extrema), plus half of each yellow region's valence mismatch."""
+    orange = sum(extra_extrema(r) for r in a["regions"] if r["colour"] == "orange")
+    yellow = sum(abs(r["valence"] - r["ideal_valence"]) for r in a["regions"] if r["colour"] == "yellow")
+    return orange + 0.5 * yellow
 
 
 def score(a):
@@ -148,9 +154,7 @@ def score(a):
     # then holes are joined by cuts between them (chi + 1): both count as progress.
     genus = sum(r["genus"] for r in red)
     badness = sum(max(1, abs(1 - r["euler_characteristic"])) for r in red)
-    orange = sum(extra_extrema(r) for r in a["regions"] if r["colour"] == "orange")
-    yellow = sum(abs(r["valence"] - r["ideal_valence"]) for r in a["regions"] if r["colour"] == "yellow")
-    return (genus, badness, orange + 0.5 * yellow)
+    return (genus, badness, colour_flaws(a))
 
 
 def seeds_in_order(a, options, skip):
@@ -207,7 +211,6 @@ class _Weaver:
         self.session = ds.loop_session.native
         self.work = 0.0             # units spent (module doc)
         self.cancelled = 0          # loop queries cut by the timeout
-        self.limited = 0            # loop queries stopped at their work cap (deterministic)
         self.user_strips = len(ds.design.strips)
 
     def out_of_work(self, elapsed):
@@ -259,9 +262,7 @@ class _Weaver:
         except native.InputError:
             return []
         except native.Cancelled:
-            if self.session.query_limited:
-                self.limited += 1
-            else:
+            if not self.session.query_limited:   # the clock, not the work cap, stopped it
                 self.cancelled += 1
             return []
         finally:
@@ -432,13 +433,14 @@ def auto_weave(ds, options=None):
     w = _Weaver(ds, options)
     # Loop queries on one thread, with a cap on their work: both make each query's outcome
     # the same on any machine (two threads share the search's bound by timing).
+    threads, polls = w.session.threads, w.session.max_query_polls
     w.session.set_threads(1)
     w.session.max_query_polls = options.query_polls
     try:
         return _weave(w, ds, options)
     finally:
-        w.session.max_query_polls = 0
-        w.session.set_threads(min(2, os.cpu_count() or 1))   # the session's default
+        w.session.max_query_polls = polls
+        w.session.set_threads(threads)
 
 
 def _weave(w, ds, options):

@@ -37,6 +37,7 @@ class LoopSession {
   SearchAlgorithm algorithm = SearchAlgorithm::Bidirectional;
   // Threads a query may use (the machines have two cores).
   void set_threads(int threads);
+  int threads() const { return static_cast<int>(workspaces_.size()); }
 
   // The loops through the anchors, cheapest first, at most `count` distinct.
   std::vector<Loop> loops(const std::vector<Anchor>& anchors, int count, bool allow_open = true);

@@ -45,7 +45,7 @@ Regions compute_regions(const Surface& s, const LoopArrangement& A, const std::v
   Regions out;
   const TriangleMesh& m = A.mesh;
   const MeshTopology& rt = A.topology;
-  const Index nt = m.num_triangles(), nv = m.num_vertices(), ne = rt.num_edges();
+  const Index nt = m.num_triangles(), nv = m.num_vertices();
   const Index surface_vertices = s.mesh.num_vertices();
 
   // Components across edges that separate nothing.

@@ -2,10 +2,10 @@
 // symmetric matrix, given by its graph (METIS's multilevel nested
 // dissection, behind this adapter).
 //
-// nested_dissection_order(adjacency) -> order
-//   Input : the graph of the matrix, one list of neighbours per node
-//           (symmetric: j in adjacency[i] iff i in adjacency[j]; no self
-//           loops; duplicates allowed).
+// nested_dissection_order(graph) -> order
+//   Input : the graph of the matrix as compressed rows (surface/mesh_topology.h
+//           Csr, e.g. MeshTopology::vertex_neighbours): symmetric (j in row i
+//           iff i in row j), no self loops, no repeated neighbours.
 //   Output: order[k] = the node eliminated k-th (a permutation of 0..n-1).
 // Why nested dissection rather than minimum degree: on the meshes S is solved
 // on (2D graphs of 10^4 to 10^5 nodes) its separators give a factorization
@@ -15,10 +15,12 @@
 // Deterministic: METIS runs with a fixed seed.
 #pragma once
 
+#include "stripweave/surface/mesh_topology.h"
+
 #include <vector>
 
 namespace stripweave {
 
-std::vector<int> nested_dissection_order(const std::vector<std::vector<int>>& adjacency);
+std::vector<Index> nested_dissection_order(const Csr& graph);
 
 }  // namespace stripweave

@@ -208,9 +208,10 @@ void SupernodalLdlt::compute(const SparseMatrix& given) {
     first[s] = s;
     for (int c : kids[s]) work[s] += work[c], first[s] = std::min(first[s], first[c]), front_parent[c] = s;
   }
+  std::vector<int> roots;
   double total = 0;
   for (int s = 0; s < ns; ++s)
-    if (front_parent[s] < 0) total += work[s];
+    if (front_parent[s] < 0) roots.push_back(s), total += work[s];
   auto run_subtree = [&](int root, std::vector<int>& local, std::vector<int>& index) {
     for (int s = first[root]; s <= root; ++s) factor_front(s, local, index);
   };
@@ -222,9 +223,7 @@ void SupernodalLdlt::compute(const SparseMatrix& given) {
   }
   // Split the heaviest subtree while it holds more than half the work; its
   // own front waits for the second phase.
-  std::vector<int> frontier, top;
-  for (int s = 0; s < ns; ++s)
-    if (front_parent[s] < 0) frontier.push_back(s);
+  std::vector<int> frontier = roots, top;
   for (;;) {
     auto heaviest = std::max_element(frontier.begin(), frontier.end(), [&](int a, int b) { return work[a] < work[b]; });
     if (work[*heaviest] <= 0.55 * total || kids[*heaviest].empty()) break;

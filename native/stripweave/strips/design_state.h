@@ -91,7 +91,7 @@ class DesignState {
   std::vector<Index> mask_;  // disabled_nodes(), derived with the strips
   // The surface's elimination order for S (parameterization.h), computed at
   // the first solve: it depends on the mesh alone.
-  mutable std::vector<int> vertex_order_;
+  mutable std::vector<Index> vertex_order_;
 };
 
 // The loop path of a loop: embedded and cut into per-triangle segments.

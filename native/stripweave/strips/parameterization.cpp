@@ -272,18 +272,12 @@ void check_meetings(const Surface& s, const CutGraph& cut, const std::vector<Loo
 
 Vec2 Transition::apply(const Vec2& p) const { return turn(p, r) + tr; }
 
-std::vector<int> vertex_elimination_order(const Surface& surface) {
-  const Index V = surface.mesh.num_vertices();
-  std::vector<std::vector<int>> adjacency(V);
-  for (const auto& e : surface.topology.edges) {
-    adjacency[e[0]].push_back(static_cast<int>(e[1]));
-    adjacency[e[1]].push_back(static_cast<int>(e[0]));
-  }
-  return nested_dissection_order(adjacency);
+std::vector<Index> vertex_elimination_order(const Surface& surface) {
+  return nested_dissection_order(surface.topology.vertex_neighbours);
 }
 
 Parameterization parameterize(const Surface& surface, const CrossField& field, const std::vector<LoopPath>& loops,
-                              const std::vector<int>& vertex_order) {
+                              const std::vector<Index>& vertex_order) {
   const auto start = Clock::now();
   const TriangleMesh& mesh = surface.mesh;
   const MeshTopology& topo = surface.topology;
@@ -417,20 +411,14 @@ Parameterization parameterize(const Surface& surface, const CrossField& field, c
   // to order and factors 1.5 times slower.)
   std::vector<Index> position(n_primal + n_rows);
   {
-    const std::vector<int> computed = vertex_order.empty() ? vertex_elimination_order(surface) : std::vector<int>{};
-    const std::vector<int>& by_rank = vertex_order.empty() ? computed : vertex_order;
+    const std::vector<Index> by_rank = vertex_order.empty() ? vertex_elimination_order(surface) : vertex_order;
     if (static_cast<Index>(by_rank.size()) != mesh.num_vertices())
       throw std::invalid_argument("parameterize: the vertex order does not belong to this surface");
     std::vector<std::vector<Index>> wedges_of(mesh.num_vertices());
-    std::vector<std::uint8_t> listed(W, 0);
-    for (Index t = 0; t < F; ++t)
-      for (int i = 0; i < 3; ++i) {
-        const Index w = cut.wedge_of(t, i);
-        if (!listed[w]) listed[w] = 1, wedges_of[mesh.triangles[t][i]].push_back(w);
-      }
+    for (Index w = 0; w < W; ++w) wedges_of[cut.wedge_vertex[w]].push_back(w);
     std::vector<Index> order;
     order.reserve(n_primal);
-    for (int v : by_rank)
+    for (Index v : by_rank)
       for (Index w : wedges_of[v])
         if (slot[w] >= 0) order.push_back(var(w, 0)), order.push_back(var(w, 1));
     std::vector<Index> rank(n_primal);

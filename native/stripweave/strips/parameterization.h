@@ -95,9 +95,9 @@ struct Parameterization {
 // mesh alone, so a caller that solves S for many designs on one surface
 // (DesignState) computes it once and passes it in; left empty, parameterize
 // computes it.
-std::vector<int> vertex_elimination_order(const Surface& surface);
+std::vector<Index> vertex_elimination_order(const Surface& surface);
 
 Parameterization parameterize(const Surface& surface, const CrossField& field, const std::vector<LoopPath>& loops,
-                              const std::vector<int>& vertex_order = {});
+                              const std::vector<Index>& vertex_order = {});
 
 }  // namespace stripweave

@@ -42,12 +42,8 @@ std::string where(Index patch, int side) {
   return s.str();
 }
 
-void sort_unique(std::vector<Index>& v) {
-  std::sort(v.begin(), v.end());
-  v.erase(std::unique(v.begin(), v.end()), v.end());
-}
-
-void sort_unique_keys(std::vector<EdgeKey>& v) {
+template <typename T>
+void sort_unique(std::vector<T>& v) {
   std::sort(v.begin(), v.end());
   v.erase(std::unique(v.begin(), v.end()), v.end());
 }
@@ -295,7 +291,7 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
     std::vector<EdgeKey> edges;
     for (const Tri& f : m.triangles)
       for (int k = 0; k < 3; ++k) edges.push_back(edge_key(f[k], f[(k + 1) % 3]));
-    sort_unique_keys(edges);
+    sort_unique(edges);
     std::vector<std::vector<Index>> vertex_edges(nv);
     for (Index e = 0; e < Index(edges.size()); ++e) vertex_edges[edges[e][0]].push_back(e), vertex_edges[edges[e][1]].push_back(e);
 
