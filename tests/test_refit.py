@@ -123,6 +123,30 @@ def test_freeform_loft_box_design(tmp_path):
     assert r["step_faces_read_back"] == 6 and step_faces(step) == 6
 
 
+def test_freeform_loft_regular_seams():
+    """The lofted part with two belts around the side and two loops over the caps: the
+    belts (parallel loops, allowed by a compatibility band) leave a middle band of 4
+    regions of valence 4, so the layout has 4 regular vertices, and the seams between
+    them must be tangent continuous (the issue: under 1 degree at regular vertices, whole
+    seam), with the tolerance met and the shell closed."""
+    shape = lofted_solid()
+    belt = [side_point(shape, 0.3, z) + (-math.sin(0.3), math.cos(0.3), 0) for z in (8, 16)]
+    anchors = [[belt[0]], [belt[1]], [side_point(shape, 0, 12) + (0, 0, 1)],
+               [side_point(shape, math.pi / 2, 12) + (0, 0, 1)]]
+    ds = DesignSession(sw.from_shape(shape, target_triangles=15000),
+                       Design(anchors, options={"compatibility_band": 2.0}))
+    L = ds.native.layout()
+    assert sorted(v["valence"] for v in L["vertices"]) == [3] * 8 + [4] * 4
+    r = refit_design(ds)
+    diagonal = ds.native.patch_network()["bbox_diagonal"]
+    assert len(r["per_patch"]) == len(L["patches"]) == 10
+    assert r["tolerance_met"] and r["max_deviation"] <= r["tolerance"]
+    check_shell(r, diagonal)
+    assert r["closed"] and r["volume"] == pytest.approx(shape.Volume, rel=1e-3)
+    # Seams between two regular vertices exist (the figure is 0 without any) and are G1.
+    assert 0 < r["max_seam_angle_deg_regular"] < 1.0
+
+
 def test_invalid_design_has_nothing_to_fit():
     ds = DesignSession(sw.from_shape(box(10), target_triangles=6000), Design(CUBE_BELTS[:1]))
     with pytest.raises(sw.InputError, match="no patches to fit"):

@@ -1,13 +1,14 @@
 // SupernodalLdlt (see the header).
 #include "stripweave/sparse/supernodal_ldlt.h"
 
+#include "stripweave/core/parallel.h"
+
 #include <algorithm>
 #include <cmath>
 #include <exception>
 #include <stdexcept>
 #include <thread>
 
-#include <sched.h>
 
 namespace stripweave {
 
@@ -31,15 +32,6 @@ void elimination_tree(const SparseMatrix& upper, std::vector<int>& parent, std::
         tag[i] = k;
       }
   }
-}
-
-// The cores this process may run on (its affinity mask, so that a run
-// pinned to one core, as the benchmarks are, factors on one thread rather
-// than time-slicing two).
-unsigned usable_cores() {
-  cpu_set_t set;
-  if (sched_getaffinity(0, sizeof(set), &set) == 0) return static_cast<unsigned>(CPU_COUNT(&set));
-  return std::max(1u, std::thread::hardware_concurrency());
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "stripweave/surfacing/fit_patch_network.h"
 
 #include "stripweave/core/error.h"
+#include "stripweave/core/parallel.h"
 #include "stripweave/surfacing/edge_curves.h"
 #include "stripweave/surfacing/patch_creases.h"
 #include "stripweave/surfacing/patch_fit.h"
@@ -450,7 +451,10 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
         fit_patch_interiors(result.surfaces, fit_samples, which, {}, options.smoothing, 0);
       }
     }
-    for (Index p : which) measure(result.surfaces, p, neighbours[p], samples[p], enough, report.per_patch[p]);
+    // Each patch's samples against the network: independent, side by side.
+    parallel_for(static_cast<Index>(which.size()), [&](Index k) {
+      measure(result.surfaces, which[k], neighbours[which[k]], samples[which[k]], enough, report.per_patch[which[k]]);
+    });
     std::fill(edge_dirty.begin(), edge_dirty.end(), false);
     std::fill(patch_dirty.begin(), patch_dirty.end(), false);
   };
@@ -559,7 +563,7 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
         fit_patch_interiors(result.surfaces, fit_samples, {}, {}, options.smoothing, 0, targets, options.seam_weight);
       }
     }
-    for (Index p = 0; p < nP; ++p) measure(result.surfaces, p, neighbours[p], samples[p], enough, report.per_patch[p]);
+    parallel_for(nP, [&](Index p) { measure(result.surfaces, p, neighbours[p], samples[p], enough, report.per_patch[p]); });
     // If the coupling pushed a patch over tolerance, refine and go again.
     if (report.rounds < kMaxRounds && outer < 2 && refine()) continue;
     // Refinement is exhausted: tolerance before tangent continuity.

@@ -1,6 +1,7 @@
 #include "stripweave/surfacing/patch_fit.h"
 
 #include "stripweave/core/error.h"
+#include "stripweave/core/parallel.h"
 
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
@@ -86,15 +87,11 @@ BandSystem assemble(const BSplinePatch& p, const PatchSamples& s, double smoothi
   return sys;
 }
 
-}  // namespace
-
-void fit_patch_interiors(std::vector<BSplinePatch>& patches, const std::vector<PatchSamples>& samples,
-                         const std::vector<Index>& which_in, const std::vector<Seam>& seams, double smoothing,
-                         double seam_weight, const std::vector<ControlTarget>& targets, double target_weight) {
-  std::vector<Index> which = which_in;
-  if (which.empty())
-    for (Index p = 0; p < static_cast<Index>(patches.size()); ++p) which.push_back(p);
-
+// One least-squares system for the patches `which` (seams between two of
+// them coupled); writes only their inner controls.
+void solve_interiors(std::vector<BSplinePatch>& patches, const std::vector<PatchSamples>& samples,
+                     const std::vector<Index>& which, const std::vector<Seam>& seams, double smoothing,
+                     double seam_weight, const std::vector<ControlTarget>& targets, double target_weight) {
   // Global numbering of the free controls of the solved patches.
   std::vector<Index> offset(patches.size(), kInvalid);
   Index n = 0;
@@ -171,6 +168,42 @@ void fit_patch_interiors(std::vector<BSplinePatch>& patches, const std::vector<P
     for (int i = 1; i <= P.rows() - 2; ++i)
       for (int j = 1; j <= P.cols() - 2; ++j) P.P(i, j) = x.row(gid(p, i, j)).transpose();
   }
+}
+
+}  // namespace
+
+void fit_patch_interiors(std::vector<BSplinePatch>& patches, const std::vector<PatchSamples>& samples,
+                         const std::vector<Index>& which_in, const std::vector<Seam>& seams, double smoothing,
+                         double seam_weight, const std::vector<ControlTarget>& targets, double target_weight) {
+  std::vector<Index> which = which_in;
+  if (which.empty())
+    for (Index p = 0; p < static_cast<Index>(patches.size()); ++p) which.push_back(p);
+  // Patches no seam couples are independent systems: one per group of
+  // coupled patches (each in the order of `which`), solved side by side.
+  // An uncoupled refinement round is a group per patch; the coupled fit of
+  // a connected network, one group.
+  std::vector<Index> root(patches.size(), kInvalid);
+  for (Index p : which) root[p] = p;
+  auto find = [&](Index p) {
+    while (root[p] != p) p = root[p] = root[root[p]];
+    return p;
+  };
+  if (seam_weight > 0)
+    for (const Seam& sm : seams)
+      if (root[sm.a] != kInvalid && root[sm.b] != kInvalid) {
+        const Index a = find(sm.a), b = find(sm.b);
+        if (a != b) root[std::max(a, b)] = std::min(a, b);
+      }
+  std::vector<std::vector<Index>> groups;
+  std::vector<Index> group_of(patches.size(), kInvalid);
+  for (Index p : which) {
+    const Index r = find(p);
+    if (group_of[r] == kInvalid) group_of[r] = static_cast<Index>(groups.size()), groups.emplace_back();
+    groups[group_of[r]].push_back(p);
+  }
+  parallel_for(static_cast<Index>(groups.size()), [&](Index g) {
+    solve_interiors(patches, samples, groups[g], seams, smoothing, seam_weight, targets, target_weight);
+  });
 }
 
 double seam_speed_ratio(const std::vector<BSplinePatch>& patches, const Seam& s) {

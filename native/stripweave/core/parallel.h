@@ -1,0 +1,23 @@
+// Running independent pieces of work on the cores this process may use.
+//
+// usable_cores() -> the cores in the process's affinity mask (so that a run
+//   pinned to one core, as the benchmarks are, works on one thread rather
+//   than time-slicing two).
+// parallel_for(n, body, max_threads) -> body(i) for i in [0, n), on up to
+//   min(max_threads, usable_cores()) threads, each taking the next index.
+//   The bodies must be independent (each writes only its own slots), so the
+//   result does not depend on the thread count or the scheduling. The first
+//   exception a body throws is rethrown after all threads have finished.
+#pragma once
+
+#include "stripweave/core/types.h"
+
+#include <functional>
+
+namespace stripweave {
+
+unsigned usable_cores();
+
+void parallel_for(Index n, const std::function<void(Index)>& body, unsigned max_threads = 2);
+
+}  // namespace stripweave
