@@ -6,8 +6,14 @@ Cases (each: model -> surface -> design -> layout -> patch network -> refit):
   screw     /work/shared/models/step/screw.step (outside the repo; skipped when
             absent) with a hand-made "box" design: one loop around the shank, two
             through the axis over the head.
+  ubend2    /work/shared/models/step/ubend2.stp (outside the repo; skipped when absent),
+            an open square tube bent into a U, with a hand-made design: two curves
+            along each of its 4 B-spline faces (at a third of the face's width), and
+            4 rings around it; every crease runs through regions, so the primal edges
+            follow it, and each patch lies within one face.
   sphere96  the 96-patch cube-sphere network of the tests: refit time at ~100 patches.
   loft      the lofted part of tests/test_refit.py (box design).
+  loft4     the same part with two belts and the two cap loops (4 regular vertices).
   cylinder  the capped cylinder's box design (the test case), for reference.
 Prints per case: patches, max/rms deviation against the tolerance, seam gap, seam
 angle (middle of smooth seams; regular seams), volume, refit time and setup time.
@@ -35,6 +41,7 @@ from stripweave.strips import DesignSession  # noqa: E402
 from stripweave.surfacing import refit_design  # noqa: E402
 
 SCREW = "/work/shared/models/step/screw.step"
+UBEND2 = "/work/shared/models/step/ubend2.stp"
 
 
 def screw_case():
@@ -44,6 +51,33 @@ def screw_case():
     ax, ay = -17.8981, -0.8263  # the shank's axis (z), radius 5, from z = -33.6 to 0.4
     anchors = [[(ax + 5, ay, -16, 0, 1, 0)], [(ax + 5, ay, -16, 0, 0, 1)], [(ax, ay + 5, -16, 0, 0, 1)]]
     return shape, anchors, None
+
+
+def ubend2_case():
+    if not os.path.exists(UBEND2):
+        return None
+    shape = Part.read(UBEND2)
+    along, rings = [], []
+    for face in shape.Faces:
+        u0, u1, v0, v1 = face.ParameterRange
+        S = face.Surface
+
+        def extent(du, dv):  # polyline length through the middle, along u (du) or v (dv)
+            pts = [S.value(u0 + (u1 - u0) * (0.5 * dv + du * k / 20), v0 + (v1 - v0) * (0.5 * du + dv * k / 20))
+                   for k in range(21)]
+            return sum((b - a).Length for a, b in zip(pts, pts[1:]))
+        long_u = extent(1, 0) > extent(0, 1)
+        for w in (1 / 3, 2 / 3):   # curves along the face, a third of its width from each crease
+            u, v = ((u0 + u1) / 2, v0 + (v1 - v0) * w) if long_u else (u0 + (u1 - u0) * w, (v0 + v1) / 2)
+            p, d = S.value(u, v), S.getDN(u, v, 1, 0) if long_u else S.getDN(u, v, 0, 1)
+            along.append([(p.x, p.y, p.z, d.x, d.y, d.z)])
+        if not rings:              # rings across the first face
+            for t in (0.2, 0.4, 0.6, 0.8):
+                u, v = (u0 + (u1 - u0) * t, (v0 + v1) / 2) if long_u else ((u0 + u1) / 2, v0 + (v1 - v0) * t)
+                p, d = S.value(u, v), S.getDN(u, v, 0, 1) if long_u else S.getDN(u, v, 1, 0)
+                rings.append([(p.x, p.y, p.z, d.x, d.y, d.z)])
+    diagonal = shape.BoundBox.DiagonalLength
+    return shape, along + rings, {"compatibility_band": 0.03 * diagonal}
 
 
 def sphere96_case():
@@ -72,7 +106,17 @@ def loft_case():
     return shape, anchors, None
 
 
-CASES = {"screw": screw_case, "loft": loft_case, "sphere96": sphere96_case, "cylinder": cylinder_case}
+def loft4_case():
+    """The lofted part with two belts around the side (z 8 and 16) and the two cap loops."""
+    sys.path.append(os.path.join(REPO, "tests"))
+    from test_refit import lofted_solid, side_point
+    shape = lofted_solid()
+    belts = [[side_point(shape, 0.3, z) + (-math.sin(0.3), math.cos(0.3), 0)] for z in (8, 16)]
+    caps = [[side_point(shape, 0, 12) + (0, 0, 1)], [side_point(shape, math.pi / 2, 12) + (0, 0, 1)]]
+    return shape, belts + caps, {"compatibility_band": 2.0}
+
+
+CASES = {"screw": screw_case, "ubend2": ubend2_case, "loft": loft_case, "loft4": loft4_case, "sphere96": sphere96_case, "cylinder": cylinder_case}
 
 
 def run(name, make, triangles, step_dir):
@@ -80,7 +124,7 @@ def run(name, make, triangles, step_dir):
     if case is None:
         print(f"{name}: skipped (model not found)")
         return
-    shape, anchors, _ = case
+    shape, anchors, options = case
     t0 = time.perf_counter()
     surface = sw.from_shape(shape, target_triangles=triangles)
     if isinstance(anchors, dict):  # a ready patch network
@@ -88,7 +132,7 @@ def run(name, make, triangles, step_dir):
         refit_call = lambda **kw: sw._native.refit(surface, network, **kw)  # noqa: E731
     else:
         try:
-            ds = DesignSession(surface, Design(anchors))
+            ds = DesignSession(surface, Design(anchors, options=options))
             network = ds.native.patch_network()
         except sw.InputError as exc:
             print(f"{name}: design failed: {exc}")

@@ -48,6 +48,27 @@ def lofted_face():
 
 # --- helpers ------------------------------------------------------------------
 
+def square_u_tube(w=8.0, R=20.0, L=20.0, skew_deg=30.0):
+    """An open shell like the shared ubend2.stp: a square tube of side w swept along a U
+    (a leg of length L, a half circle of radius R, a leg back), creased along its 4 edges,
+    the first end square, the second cut by a plane turned skew_deg about z (its corners
+    are no right angles). 12 faces; the ends are the open boundary, where each crease
+    ends in a corner of the part."""
+    path = Part.Wire([Part.LineSegment(Vector(0, 0, 0), Vector(0, L, 0)).toShape(),
+                      Part.ArcOfCircle(Vector(0, L, 0), Vector(R, L + R, 0), Vector(2 * R, L, 0)).toShape(),
+                      Part.LineSegment(Vector(2 * R, L, 0), Vector(2 * R, 0, 0)).toShape()])
+    h = w / 2
+    profile = Part.makePolygon([Vector(-h, 0, -h), Vector(h, 0, -h), Vector(h, 0, h), Vector(-h, 0, h),
+                                Vector(-h, 0, -h)])
+    shell = path.makePipeShell([profile], False, True)
+    if not skew_deg:
+        return shell
+    cutter = Part.makeBox(100, 100, 100, Vector(-50, -100, -50))
+    cutter.rotate(Vector(2 * R, 5, 0), Vector(0, 0, 1), skew_deg)
+    cutter.translate(Vector(0, 5, 0))
+    return Part.Shell(shell.cut(cutter).Faces)
+
+
 def edge_use_counts(triangles):
     """How many triangles use each undirected edge."""
     t = np.asarray(triangles)

@@ -13,7 +13,7 @@ import Part
 from FreeCAD import Vector
 
 import stripweave as sw
-from models import box, capped_cylinder
+from models import box, capped_cylinder, square_u_tube
 from stripweave.design import Design
 from stripweave.strips import DesignSession
 from stripweave.surfacing import FIT_KEYS, fit_report, format_fit, refit_design
@@ -145,6 +145,50 @@ def test_freeform_loft_regular_seams():
     assert r["closed"] and r["volume"] == pytest.approx(shape.Volume, rel=1e-3)
     # Seams between two regular vertices exist (the figure is 0 without any) and are G1.
     assert 0 < r["max_seam_angle_deg_regular"] < 1.0
+
+
+def u_tube_design(R=20.0, L=20.0, w=8.0):
+    """Two loops along each of the tube's 4 sides, at a third of its width from each crease
+    (open curves from end to end: each crease then runs inside a chain of regions, whose
+    primal edges follow it), and 4 rings around it (two on the half circle, one on each
+    leg). Patches lie within one side each; the regions between two curves on one side
+    have regular vertices with four smooth seams."""
+    a = w / 6
+    along = [[(R, L + R + y, z, 1, 0, 0)] for y, z in ((a, w / 2), (-a, w / 2), (a, -w / 2), (-a, -w / 2),
+                                                         (w / 2, a), (w / 2, -a), (-w / 2, a), (-w / 2, -a))]
+    rings = [[(0, L / 2, w / 2, 1, 0, 0)], [(2 * R, 0.7 * L, w / 2, 1, 0, 0)]]
+    for degrees in (60, 120):
+        t = math.radians(degrees)
+        rings.append([(R - R * math.cos(t), L + R * math.sin(t), w / 2, -math.cos(t), math.sin(t), 0)])
+    return Design(along + rings, options={"compatibility_band": 1.0})
+
+
+def test_square_u_tube_corners_and_regular_seams(tmp_path):
+    """An open, creased tube like the shared ubend2.stp (tests/models.py): each crease ends
+    in a corner of the open boundary, where a patch corner belongs. Open dual curves must
+    not end at such corners (loop_search.cpp): before, one curve ended on a corner of the
+    skewed end, neither region took the corner, the primal edge turned it inside a patch
+    side, and three patches lay over a crease (deviation 2.5 tolerances). Now all 8 corners
+    are primal vertices, no patch is creased, the tolerance is met, and the seams between
+    regular vertices are G1 under 1 degree."""
+    shape = square_u_tube()
+    ds = DesignSession(sw.from_shape(shape, target_triangles=15000), u_tube_design())
+    L = ds.native.layout()
+    assert L["valid"] and not L["problems"]
+    corners = [v for v in L["vertices"] if v["placement"] == "corner"]
+    assert len(corners) == 8 and all(v["boundary"] for v in corners)
+    step = tmp_path / "tube.step"
+    r = refit_design(ds, step_path=str(step))
+    diagonal = ds.native.patch_network()["bbox_diagonal"]
+    assert len(r["per_patch"]) == len(L["patches"])
+    assert r["creased_patches"] == 0 and r["folded_patches"] == 0
+    assert r["tolerance_met"] and r["max_deviation"] <= r["tolerance"]
+    # One valid open shell: its free edges are exactly the layout's boundary edges.
+    assert r["valid_shell"] and r["shells"] == 1 and not r["closed"]
+    assert r["free_edges"] == r["boundary_edges"] == 16 and r["sharp_seams"] == 16
+    assert r["max_seam_gap"] < 1e-6 * diagonal
+    assert 0 < r["max_seam_angle_deg_regular"] < 1.0
+    assert r["step_faces_read_back"] == len(L["patches"]) == step_faces(step)
 
 
 def test_invalid_design_has_nothing_to_fit():

@@ -4,6 +4,7 @@
 #include "stripweave/core/error.h"
 #include "stripweave/elastica/radix_heap.h"
 #include "stripweave/elastica/shortest_paths.h"
+#include "stripweave/surface/corner_strength.h"
 
 #include <algorithm>
 #include <atomic>
@@ -39,16 +40,30 @@ void append_chain(std::vector<Index>& chain, const std::vector<Index>& piece) {
 
 LoopTables loop_tables(const Surface& s, const ElasticaGraph& g) {
   LoopTables t;
-  // A node arriving at an open boundary ends a dual curve there (§5.7).
-  t.on_boundary.assign(s.mesh.num_vertices(), false);
-  for (const auto& loop : s.boundary_loops)
-    for (Index v : loop) t.on_boundary[v] = true;
-  t.has_boundary = !s.boundary_loops.empty();
   // Loops closer than the reach of one g-edge are the same strip.
   double mean_edge = 0;
   for (const EdgeKey& e : s.topology.edges) mean_edge += (s.mesh.positions[e[0]] - s.mesh.positions[e[1]]).norm();
   mean_edge /= std::max<Index>(1, s.topology.num_edges());
   t.duplicate_tolerance = g.params.k * mean_edge;
+  // A node arriving at an open boundary ends a dual curve there (§5.7), but
+  // not at a corner of the boundary nor within two mesh edges of it:
+  // the corner is where a primal vertex goes, and a curve ending on it
+  // splits it between two regions, so neither takes it and the primal edge
+  // along the boundary turns the corner inside a patch side (a tube's
+  // skewed end left creased patches of 24 x 24 spans 2.5 tolerances off).
+  t.on_boundary.assign(s.mesh.num_vertices(), false);
+  const std::vector<double> corner = corner_strength(s);
+  std::vector<Vec3> corners;
+  for (const auto& loop : s.boundary_loops)
+    for (Index v : loop)
+      if (corner[v] > 0) corners.push_back(s.mesh.positions[v]);
+  for (const auto& loop : s.boundary_loops)
+    for (Index v : loop) {
+      bool near_corner = false;
+      for (const Vec3& c : corners) near_corner |= (s.mesh.positions[v] - c).norm() < 2 * mean_edge;
+      t.on_boundary[v] = !near_corner;
+    }
+  t.has_boundary = !s.boundary_loops.empty();
   return t;
 }
 

@@ -69,7 +69,7 @@ class SurfaceLocator;
 // What every query needs of the surface, computed once per session (not on
 // the hover path).
 struct LoopTables {
-  std::vector<bool> on_boundary;    // per vertex: on an open boundary (§5.7)
+  std::vector<bool> on_boundary;    // per vertex: an open curve may end here (§5.7): the open boundary away from its corners
   bool has_boundary = false;
   double duplicate_tolerance = 0;   // loops whose vertices are all this close are one strip
 };

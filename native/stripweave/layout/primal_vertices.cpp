@@ -17,44 +17,12 @@
 // or the boundary the vertex also takes the point where the sides balance.
 #include "stripweave/layout/primalization.h"
 
-#include "stripweave/surface/angle_defects.h"
+#include "stripweave/surface/corner_strength.h"
 
 #include <cmath>
 #include <limits>
 
 namespace stripweave {
-
-namespace {
-
-constexpr double kCornerTurn = 30.0 * M_PI / 180.0;  // a boundary turning more than this is a corner
-
-// Per surface vertex: how much of a corner it is (0 if none). On the open
-// boundary the turn |pi - angle sum|; inside, where three or more sharp
-// feature edges meet, the angle defect |2 pi - angle sum| (a cube corner's
-// pi/2), at least a small positive amount so a flat junction still counts.
-std::vector<double> corner_strength(const Surface& s) {
-  const Index nv = s.mesh.num_vertices();
-  const std::vector<double> defect = angle_defects(s.mesh, s.topology);
-  std::vector<int> features(nv, 0);
-  std::vector<std::uint8_t> boundary(nv, 0);
-  for (Index e = 0; e < s.topology.num_edges(); ++e) {
-    for (Index v : s.topology.edges[e]) {
-      features[v] += s.edge_class[e] == EdgeClass::Feature;
-      boundary[v] |= s.topology.is_boundary_edge(e);
-    }
-  }
-  std::vector<double> strength(nv, 0.0);
-  for (Index v = 0; v < nv; ++v) {
-    if (boundary[v]) {
-      if (std::abs(defect[v]) > kCornerTurn) strength[v] = std::abs(defect[v]);
-    } else if (features[v] >= 3) {
-      strength[v] = std::max(std::abs(defect[v]), 1e-3);
-    }
-  }
-  return strength;
-}
-
-}  // namespace
 
 std::vector<PrimalVertex> place_primal_vertices(const PrimalContext& ctx, const std::vector<Singularity>& singularities,
                                                 std::vector<Index>& vertex_wedge) {

@@ -1,0 +1,26 @@
+// corner_strength(surface) -> per surface vertex, how much of a corner it is
+//   (0 if none), in radians:
+//     on the open boundary  the boundary's turn |pi - angle sum| where it
+//                           exceeds kCornerTurn (30 degrees); where a sharp
+//                           feature curve ends on it (the end of a square
+//                           tube: the boundary does not turn within the
+//                           surface there, but the part has a corner), that
+//                           turn, at least 1e-3;
+//     inside                where three or more sharp feature edges meet,
+//                           the angle defect |2 pi - angle sum| (a cube
+//                           corner's pi/2), at least 1e-3 so that a flat
+//                           junction still counts.
+//   A corner is where a CAD engineer expects a patch corner: the primal
+//   vertices go there (primal_vertices.cpp), and so no dual curve may end
+//   there (loop_search.cpp).
+#pragma once
+
+#include "stripweave/surface/surface.h"
+
+namespace stripweave {
+
+constexpr double kCornerTurn = 30.0 * M_PI / 180.0;
+
+std::vector<double> corner_strength(const Surface& s);
+
+}  // namespace stripweave
