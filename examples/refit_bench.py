@@ -14,6 +14,8 @@ Cases (each: model -> surface -> design -> layout -> patch network -> refit):
   sphere96  the 96-patch cube-sphere network of the tests: refit time at ~100 patches.
   loft      the lofted part of tests/test_refit.py (box design).
   loft4     the same part with two belts and the two cap loops (4 regular vertices).
+  utube     the square U-tube of tests/models.py (open, creased, a skewed end) with the
+            design of tests/test_refit.py: two curves along each side, 4 rings.
   cylinder  the capped cylinder's box design (the test case), for reference.
 Prints per case: patches, max/rms deviation against the tolerance, seam gap, seam
 angle (middle of smooth seams; regular seams), volume, refit time and setup time.
@@ -117,8 +119,16 @@ def loft4_case():
     return shape, belts + caps, {"compatibility_band": 2.0}
 
 
+def utube_case():
+    sys.path.append(os.path.join(REPO, "tests"))
+    from models import square_u_tube
+    from test_refit import u_tube_design
+    d = u_tube_design()
+    return square_u_tube(), d.anchor_lists(), d.options
+
+
 TRIANGLES = {"ubend2": 30000}
-CASES = {"screw": screw_case, "ubend2": ubend2_case, "loft": loft_case, "loft4": loft4_case, "sphere96": sphere96_case, "cylinder": cylinder_case}
+CASES = {"screw": screw_case, "ubend2": ubend2_case, "loft": loft_case, "loft4": loft4_case, "utube": utube_case, "sphere96": sphere96_case, "cylinder": cylinder_case}
 
 
 def run(name, make, triangles, step_dir):
