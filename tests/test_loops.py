@@ -284,3 +284,29 @@ def test_a_newer_query_cancels_an_older_one(torus_session):
     elapsed = time.perf_counter() - start
     assert outcome["slow"] == "cancelled", f"the older query was not cancelled ({elapsed:.2f} s)"
     assert hover["length"] == pytest.approx(2 * math.pi * 3, rel=0.02)
+
+
+def test_open_curves_end_on_a_zigzag_boundary():
+    """Open dual curves keep away from where a crease ends on the boundary (a corner of the
+    part, loop_search.cpp), but not from where a scan's boundary merely zig-zags: an open
+    cylinder mesh whose top rim alternates by +-0.4 (every rim vertex turns by more than 30
+    degrees) still gets an open curve from rim to rim (refusing ends near every such turn
+    left the camel head's neck no place to end curves)."""
+    n, rows, r, h = 64, 40, 5.0, 20.0
+    vertices = []
+    for j in range(rows + 1):
+        for i in range(n):
+            t = 2 * math.pi * i / n
+            z = h * j / rows + (0.4 * (-1) ** i if j == rows else 0.0)
+            vertices.append((r * math.cos(t), r * math.sin(t), z))
+    triangles = []
+    for j in range(rows):
+        for i in range(n):
+            a, b = j * n + i, j * n + (i + 1) % n
+            triangles += [(a, b, b + n), (a, b + n, a + n)]
+    surface = sw.from_mesh(vertices, triangles)
+    assert surface.report()["boundary_loops"] == 2
+    loop = LoopSession(surface, boundary="aligned").loops([(5, 0, 10, 0, 0, 1)])[0]
+    assert not loop["closed"]
+    p = np.asarray(loop["points"])
+    assert sorted((p[0, 2], p[-1, 2])) == [pytest.approx(0, abs=1e-9), pytest.approx(20, abs=0.41)]

@@ -4,7 +4,6 @@
 #include "stripweave/core/error.h"
 #include "stripweave/elastica/radix_heap.h"
 #include "stripweave/elastica/shortest_paths.h"
-#include "stripweave/surface/corner_strength.h"
 
 #include <algorithm>
 #include <atomic>
@@ -46,21 +45,28 @@ LoopTables loop_tables(const Surface& s, const ElasticaGraph& g) {
   mean_edge /= std::max<Index>(1, s.topology.num_edges());
   t.duplicate_tolerance = g.params.k * mean_edge;
   // A node arriving at an open boundary ends a dual curve there (§5.7), but
-  // not at a corner of the boundary nor within two mesh edges of it:
-  // the corner is where a primal vertex goes, and a curve ending on it
-  // splits it between two regions, so neither takes it and the primal edge
-  // along the boundary turns the corner inside a patch side (a tube's
-  // skewed end left creased patches of 24 x 24 spans 2.5 tolerances off).
+  // not within two mesh edges of a point where a sharp crease ends on the
+  // boundary: that is a corner of the part, where a primal vertex goes
+  // (corner_strength.h), and a curve ending on it splits it between two
+  // regions, so neither takes it and the primal edge along the boundary
+  // turns the corner inside a patch side (a square tube's skewed end left
+  // patches over its creases, 2.5 tolerances off). Corners by the turn of
+  // the boundary alone do not count here: a scan's boundary zig-zags by
+  // more than 30 degrees at many vertices, and refusing ends near all of
+  // them left the camel head's neck no place to end curves (3 patches
+  // instead of 42).
   t.on_boundary.assign(s.mesh.num_vertices(), false);
-  const std::vector<double> corner = corner_strength(s);
-  std::vector<Vec3> corners;
   for (const auto& loop : s.boundary_loops)
-    for (Index v : loop)
-      if (corner[v] > 0) corners.push_back(s.mesh.positions[v]);
+    for (Index v : loop) t.on_boundary[v] = true;
+  std::vector<Vec3> crease_ends;
+  for (Index e = 0; e < s.topology.num_edges(); ++e)
+    if (s.edge_class[e] == EdgeClass::Feature)
+      for (Index v : s.topology.edges[e])
+        if (t.on_boundary[v]) crease_ends.push_back(s.mesh.positions[v]);
   for (const auto& loop : s.boundary_loops)
     for (Index v : loop) {
       bool near_corner = false;
-      for (const Vec3& c : corners) near_corner |= (s.mesh.positions[v] - c).norm() < 2 * mean_edge;
+      for (const Vec3& c : crease_ends) near_corner |= (s.mesh.positions[v] - c).norm() < 2 * mean_edge;
       t.on_boundary[v] = !near_corner;
     }
   t.has_boundary = !s.boundary_loops.empty();

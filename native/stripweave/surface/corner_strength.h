@@ -11,8 +11,8 @@
 //                           corner's pi/2), at least 1e-3 so that a flat
 //                           junction still counts.
 //   A corner is where a CAD engineer expects a patch corner: the primal
-//   vertices go there (primal_vertices.cpp), and so no dual curve may end
-//   there (loop_search.cpp).
+//   vertices go there (primal_vertices.cpp). Dual curves keep their ends
+//   away from the crease ends among them (loop_search.cpp).
 #pragma once
 
 #include "stripweave/surface/surface.h"
