@@ -227,3 +227,43 @@ def test_refit_same_on_one_and_two_cores():
     for key in ("max_deviation", "rms_deviation", "max_seam_angle_deg", "rounds", "uncoupled_patches"):
         assert one[key] == two[key]
     assert [p["max_deviation"] for p in one["per_patch"]] == [p["max_deviation"] for p in two["per_patch"]]
+
+
+def test_weave_step_writes_the_deviation_picture(tmp_path):
+    """`weave --step` also renders deviation.png: each patch coloured by its fit's
+    deviation over the tolerance (preview.patch_deviation_tints). The cube's belts fit
+    exactly: every patch green; patches three tolerances off are red."""
+    from stripweave.preview import DEVIATION_SCALE, NOT_FITTED, deviation_colour, patch_deviation_tints
+    from test_weave import read_png
+    assert deviation_colour(0) == DEVIATION_SCALE[0][1] and deviation_colour(5) == DEVIATION_SCALE[-1][1]
+    assert deviation_colour(1.0) == pytest.approx(DEVIATION_SCALE[1][1])
+    out = tmp_path / "cube"
+    r = sw.weave(box(10), design=Design(CUBE_BELTS), auto=False, out=str(out), step=True, target_triangles=8000)
+    assert r["paths"]["deviation"] == str(out / "deviation.png")
+    w, h, rgb = read_png(out / "deviation.png")
+    assert (w, h) == read_png(out / "preview.png")[:2]
+    green, red = np.array(DEVIATION_SCALE[0][1]), np.array(DEVIATION_SCALE[-1][1])
+    # Shaded pixels are the tint over the base colour times a Lambert factor: compare hues
+    # (the colour direction), on pixels that are not background or edge lines.
+    px = rgb.reshape(-1, 3).astype(float)
+    px = px[(px.sum(1) < 3 * 250) & (px.max(1) > 60)]
+    hue = px / np.linalg.norm(px, axis=1, keepdims=True)
+
+    def share(colour):
+        base = np.array([0.80, 0.82, 0.85])
+        c = 0.45 * base + 0.55 * colour
+        return np.mean(hue @ (c / np.linalg.norm(c)) > 0.995)
+    assert share(green) > 0.9 and share(red) < 0.01
+    # The same layout with every patch three tolerances off: all red; one not fitted.
+    ds = DesignSession(r["surface"], r["design"])
+    fit = fit_report(refit_design(ds))
+    for p in fit["per_patch"]:
+        p["max_deviation"] = 3 * fit["tolerance"]
+    details = ds.native.layout(True)
+    tints = patch_deviation_tints(details, fit, len(ds.surface.triangles))
+    covered = ~np.isnan(tints[:, 0])
+    assert covered.all() and np.allclose(tints, red)
+    details["patches"][0]["quad"] = False
+    fit["per_patch"].pop(0)
+    tints = patch_deviation_tints(details, fit, len(ds.surface.triangles))
+    assert 0.1 < np.mean(np.all(np.isclose(tints, NOT_FITTED), axis=1)) < 0.25

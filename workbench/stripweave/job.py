@@ -13,6 +13,7 @@ quad layout, layout.compute_layout) -> files. With `out`, writes
     report.json   exactly the keys of design.md
     preview.png   the layout on the shaded model (preview.py)
     patches.step  with step=True, when the build has the surfacing stage
+    deviation.png with step=True: the patches coloured by their fit's deviation (preview.py)
 The returned dict is report.json's content plus "paths", "log" (one entry per added
 strip), "stopped" (why weaving ended), "work" (units spent, weave.py) and
 "cancelled_queries" (loop queries cut by the timeout: the only machine-dependent step
@@ -177,6 +178,11 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
                     raise native.InputError("cannot fit patches: the layout is not valid (red regions remain)")
                 tol = tolerance if tolerance is not None else 1e-3 * report["bbox_diagonal"]
                 report["fit"] = _export_step(ds, tol, paths["step"])
+                if preview:
+                    say("rendering deviation.png")
+                    from .preview import render_deviation
+                    paths["deviation"] = os.path.join(out, "deviation.png")
+                    render_deviation(paths["deviation"], ds, report["fit"])
             except native.InputError as exc:
                 # The design and its layout are still worth having: report.json says why
                 # there is no STEP, and the error names the folder.

@@ -2,6 +2,7 @@
 
     render_preview(path, vertices, triangles, normals, stripes=[...], tints=..., lines=[...])
     render_design(path, ds, layout=None)     # what `stripweave weave` writes
+    render_deviation(path, ds, fit)          # deviation.png of `weave --step`: patches by fit
 
 People look at layouts; they do not read them. The picture shows the part shaded (Lambert,
 two-sided), each strip as its stripe pattern (paper §4.2: quasi-parallel isocurves of the
@@ -265,3 +266,52 @@ def render_design(path, ds, layout=None, regions=None, **kw):
         return render_preview(path, s.vertices, s.triangles, s.normals, stripes, tints, lines=edges,
                               thin_lines=loops, **kw)
     return render_preview(path, s.vertices, s.triangles, s.normals, stripes, tints, lines=loops, **kw)
+
+
+# --- the fit's deviation per patch (weave --step) --------------------------------
+
+DEVIATION_SCALE = ((0.0, (0.15, 0.65, 0.3)), (1.0, (0.98, 0.85, 0.2)), (2.0, (0.9, 0.15, 0.1)))
+NOT_FITTED = (0.6, 0.35, 0.75)
+
+
+def deviation_colour(ratio):
+    """The colour of a patch whose deviation is `ratio` times the tolerance: green at 0,
+    yellow at the tolerance, red at twice it and beyond (linear in between)."""
+    r = min(max(float(ratio), 0.0), DEVIATION_SCALE[-1][0])
+    for (r0, c0), (r1, c1) in zip(DEVIATION_SCALE, DEVIATION_SCALE[1:]):
+        if r <= r1:
+            w = (r - r0) / (r1 - r0)
+            return tuple((1 - w) * a + w * b for a, b in zip(c0, c1))
+    return DEVIATION_SCALE[-1][1]
+
+
+def patch_deviation_tints(details, fit, triangle_count):
+    """Per surface triangle the colour of its patch's fit (deviation_colour of the larger of
+    the patch's and its edge curves' deviation over the tolerance; NOT_FITTED for a layout
+    patch that is no clean quad, NaN outside every patch). `details`: the design's
+    layout(details=True), whose quad patches are the fitted network's patches in order."""
+    quads = [i for i, p in enumerate(details["patches"]) if p["quad"]]
+    if len(quads) != len(fit["per_patch"]):
+        raise ValueError(f"the fit has {len(fit['per_patch'])} patches, the layout {len(quads)} clean quads")
+    colour = np.array([NOT_FITTED] * len(details["patches"]) + [(np.nan,) * 3], float)
+    tol = float(fit["tolerance"])
+    for k, i in enumerate(quads):
+        p = fit["per_patch"][k]
+        colour[i] = deviation_colour(max(p["max_deviation"], p.get("side_deviation", 0.0)) / tol)
+    patch = np.asarray(details["patch_of_triangle"])
+    parent = np.asarray(details["parent_triangle"])
+    tints = np.full((triangle_count, 3), np.nan)
+    tints[parent] = colour[np.where(patch < 0, len(details["patches"]), patch)]
+    return tints
+
+
+def render_deviation(path, ds, fit, **kw):
+    """deviation.png: the layout's patches coloured by how far their fit is from the source
+    (patch_deviation_tints: green well within the tolerance, yellow at it, red at twice it
+    and beyond; violet: not fitted), with the patch edges, seen as preview.png sees the
+    part."""
+    s = ds.surface
+    details = ds.native.layout(True)
+    tints = patch_deviation_tints(details, fit, len(s.triangles))
+    edges = [e["points"] for e in details.get("edges", [])]
+    return render_preview(path, s.vertices, s.triangles, s.normals, (), tints, lines=edges, **kw)
