@@ -18,19 +18,23 @@ unsigned usable_cores() {
   return std::max(1u, std::thread::hardware_concurrency());
 }
 
-void parallel_for(Index n, const std::function<void(Index)>& body, unsigned max_threads) {
-  const unsigned threads = std::min<unsigned>({max_threads, usable_cores(), static_cast<unsigned>(std::max<Index>(n, 1))});
+unsigned parallel_workers(Index n, unsigned max_threads) {
+  return std::max(1u, std::min<unsigned>({max_threads, usable_cores(), static_cast<unsigned>(std::max<Index>(n, 1))}));
+}
+
+void parallel_for_workers(Index n, const std::function<void(Index, unsigned)>& body, unsigned max_threads) {
+  const unsigned threads = parallel_workers(n, max_threads);
   if (threads <= 1) {
-    for (Index i = 0; i < n; ++i) body(i);
+    for (Index i = 0; i < n; ++i) body(i, 0);
     return;
   }
   std::atomic<Index> next{0};
   std::exception_ptr error;
   std::mutex error_mutex;
-  auto work = [&] {
+  auto work = [&](unsigned worker) {
     for (Index i = next++; i < n; i = next++) {
       try {
-        body(i);
+        body(i, worker);
       } catch (...) {
         std::lock_guard<std::mutex> lock(error_mutex);
         if (!error) error = std::current_exception();
@@ -39,10 +43,14 @@ void parallel_for(Index n, const std::function<void(Index)>& body, unsigned max_
     }
   };
   std::vector<std::thread> helpers;
-  for (unsigned t = 1; t < threads; ++t) helpers.emplace_back(work);
-  work();
+  for (unsigned t = 1; t < threads; ++t) helpers.emplace_back(work, t);
+  work(0);
   for (std::thread& h : helpers) h.join();
   if (error) std::rethrow_exception(error);
+}
+
+void parallel_for(Index n, const std::function<void(Index)>& body, unsigned max_threads) {
+  parallel_for_workers(n, [&](Index i, unsigned) { body(i); }, max_threads);
 }
 
 }  // namespace stripweave

@@ -8,6 +8,7 @@
 //   The bodies must be independent (each writes only its own slots), so the
 //   result does not depend on the thread count or the scheduling. The first
 //   exception a body throws is rethrown after all threads have finished.
+// parallel_for_workers(n, body, max_threads) -> the same, body(i, worker).
 #pragma once
 
 #include "stripweave/core/types.h"
@@ -19,5 +20,11 @@ namespace stripweave {
 unsigned usable_cores();
 
 void parallel_for(Index n, const std::function<void(Index)>& body, unsigned max_threads = 2);
+
+// The threads parallel_for(n, ..., max_threads) runs on, and the same loop
+// telling each body which of them (0 .. workers - 1) runs it: for work that
+// needs per-thread state (a B-rep projector's caches), made beforehand.
+unsigned parallel_workers(Index n, unsigned max_threads = 2);
+void parallel_for_workers(Index n, const std::function<void(Index, unsigned)>& body, unsigned max_threads = 2);
 
 }  // namespace stripweave

@@ -184,6 +184,12 @@ std::shared_ptr<BrepSource> BrepSource::checked(std::unique_ptr<Impl> impl, cons
   return std::shared_ptr<BrepSource>(new BrepSource(std::move(impl)));
 }
 
+std::shared_ptr<BrepSource> BrepSource::thread_copy() const {
+  return std::shared_ptr<BrepSource>(new BrepSource(std::make_unique<Impl>(impl_->shape)));
+}
+
+void BrepSource::forget_warm_starts() const { std::fill(impl_->has_last_uv.begin(), impl_->has_last_uv.end(), 0); }
+
 Index BrepSource::num_faces() const { return impl_->faces.Extent(); }
 Index BrepSource::num_edges() const { return impl_->edges.Extent(); }
 

@@ -87,6 +87,14 @@ class BrepSource {
   // The shape as a BREP string (for the refit stage and for FreeCAD).
   std::string to_brep_string() const;
 
+  // The same shape (same face and edge numbering) with caches of its own:
+  // project_to_face keeps per-face analysers and its previous answer, so
+  // one BrepSource must not be used by two threads; each thread takes a
+  // copy. forget_warm_starts() drops the previous answers, so that what
+  // follows does not depend on what was projected before (on which thread).
+  std::shared_ptr<BrepSource> thread_copy() const;
+  void forget_warm_starts() const;
+
   struct Impl;
 
  private:

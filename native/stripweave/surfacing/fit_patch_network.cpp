@@ -279,8 +279,20 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
   // the global search (a grid of distances per call; seconds per patch on
   // B-spline faces). The samples keep their slots: vertices, then one
   // centroid per triangle, then one midpoint per mesh edge.
+  //
+  // Patches are sampled side by side on the cores the process may use, each
+  // thread through a projector of its own (the B-rep's caches are per
+  // thread), and each patch from no warm start, so that the samples do not
+  // depend on which thread sampled which patch before. A mesh source (no
+  // B-rep) is sampled on one thread: its locator is shared.
   std::vector<PatchSamples> samples(nP);
-  for (Index p = 0; p < nP; ++p) {
+  const unsigned sample_workers = projector.exact() ? parallel_workers(nP) : 1;
+  std::vector<std::unique_ptr<SourceProjector>> worker_projectors(sample_workers);
+  if (projector.exact())
+    for (auto& w : worker_projectors) w = projector.thread_copy();
+  parallel_for_workers(nP, [&](Index p, unsigned worker) {
+    const SourceProjector& own = worker_projectors[worker] ? *worker_projectors[worker] : projector;
+    own.forget_warm_starts();
     const NetworkPatch& P = network.patches[p];
     const TriangleMesh& m = moved[p].num_vertices() ? moved[p] : P.mesh;
     const auto& vf = vertex_faces[p];
@@ -305,7 +317,7 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
       if (done[slot]) return;
       done[slot] = true;
       S.uv[slot] = at;
-      S.points[slot] = projector.on_faces(faces, x);
+      S.points[slot] = own.on_faces(faces, x);
     };
     std::vector<Index> queue;
     for (Index seed = 0; seed < nv; ++seed) {
@@ -337,7 +349,7 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
         }
       }
     }
-  }
+  }, sample_workers);
   watch.lap("sample");
 
   // --- 3. strips and adaptive refinement -----------------------------------

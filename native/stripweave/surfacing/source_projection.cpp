@@ -23,6 +23,23 @@ SourceProjector::SourceProjector(const Surface& surface, double edge_snap) : edg
 
 SourceProjector::~SourceProjector() = default;
 
+std::unique_ptr<SourceProjector> SourceProjector::thread_copy() const {
+  if (!brep_) return nullptr;
+  std::unique_ptr<SourceProjector> copy(new SourceProjector());
+  copy->own_brep_ = brep_->thread_copy();
+  copy->brep_ = copy->own_brep_.get();
+  copy->edge_snap_ = edge_snap_;
+  copy->face_edges_.resize(brep_->num_faces());
+  copy->face_edges_known_.assign(brep_->num_faces(), false);
+  copy->face_box_.resize(brep_->num_faces());
+  copy->face_box_known_.assign(brep_->num_faces(), false);
+  return copy;
+}
+
+void SourceProjector::forget_warm_starts() const {
+  if (brep_) brep_->forget_warm_starts();
+}
+
 Vec3 SourceProjector::fallback(const Vec3& p) const { return locator_ ? locator_->closest(p).point : p; }
 
 Vec3 SourceProjector::on_faces(const std::vector<Index>& faces, const Vec3& p) const {

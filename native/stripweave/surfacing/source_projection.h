@@ -25,7 +25,8 @@
 //                           (BrepSource::evaluate);
 //         without a B-rep, the nearest point of the source mesh (CGAL AABB
 //         tree, SurfaceLocator) or p itself.
-// Not thread-safe (BrepSource caches per-face analysers).
+// Not thread-safe (BrepSource caches per-face analysers): a thread takes a
+// thread_copy().
 #pragma once
 
 #include "stripweave/surface/surface.h"
@@ -39,6 +40,11 @@ class SurfaceLocator;
 class SourceProjector {
  public:
   SourceProjector(const Surface& surface, double edge_snap);
+  // For another thread: the B-rep through a thread copy of its own
+  // (BrepSource::thread_copy); null when the source is not a B-rep.
+  std::unique_ptr<SourceProjector> thread_copy() const;
+  // Forget the previous foot points (BrepSource::forget_warm_starts).
+  void forget_warm_starts() const;
   ~SourceProjector();
 
   bool exact() const { return brep_ != nullptr; }
@@ -52,9 +58,11 @@ class SourceProjector {
   Vec3 fallback(const Vec3& p) const;
   double box_distance(Index face, const Vec3& p) const;
   Vec3 nearest_on_edges(const std::vector<Index>& faces, const Vec3& p, double* distance) const;
+  SourceProjector() = default;
   const BrepSource* brep_ = nullptr;
+  std::shared_ptr<const BrepSource> own_brep_;  // a thread copy's
   std::unique_ptr<SurfaceLocator> locator_;
-  double edge_snap_;
+  double edge_snap_ = 0;
   mutable std::vector<std::vector<Index>> face_edges_;  // per B-rep face, lazily
   mutable std::vector<bool> face_edges_known_;
   mutable std::vector<BoundingBox> face_box_;  // per B-rep face, lazily
