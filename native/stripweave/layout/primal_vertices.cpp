@@ -29,17 +29,17 @@ namespace {
 constexpr double kCornerTurn = 30.0 * M_PI / 180.0;  // a boundary turning more than this is a corner
 
 // Per surface vertex: how much of a corner it is (0 if none). On the open
-// boundary the turn |pi - angle sum|; inside, where three or more sharp
-// feature edges meet, the angle defect |2 pi - angle sum| (a cube corner's
+// boundary the turn |pi - angle sum|; inside, where three or more creases
+// (creases_of: long enough to be real) meet, the angle defect |2 pi - angle sum| (a cube corner's
 // pi/2), at least a small positive amount so a flat junction still counts.
-std::vector<double> corner_strength(const Surface& s) {
+std::vector<double> corner_strength(const Surface& s, const std::vector<std::uint8_t>& crease) {
   const Index nv = s.mesh.num_vertices();
   const std::vector<double> defect = angle_defects(s.mesh, s.topology);
   std::vector<int> features(nv, 0);
   std::vector<std::uint8_t> boundary(nv, 0);
   for (Index e = 0; e < s.topology.num_edges(); ++e) {
     for (Index v : s.topology.edges[e]) {
-      features[v] += s.edge_class[e] == EdgeClass::Feature;
+      features[v] += crease[e];
       boundary[v] |= s.topology.is_boundary_edge(e);
     }
   }
@@ -61,7 +61,7 @@ std::vector<PrimalVertex> place_primal_vertices(const PrimalContext& ctx, const 
   const LoopArrangement& A = ctx.arrangement;
   const Index nr = static_cast<Index>(ctx.regions.regions.size());
   const Index nw = ctx.wedges.count();
-  const std::vector<double> strength = corner_strength(ctx.surface);
+  const std::vector<double> strength = corner_strength(ctx.surface, ctx.surface_crease);
 
   // Distance from the loops, within each region.
   std::vector<Index> on_loops;
