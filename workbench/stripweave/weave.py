@@ -467,6 +467,8 @@ def _refine(w, ds, options, a, result, elapsed):
         order = sorted(range(patches), key=lambda i: (-_split_need(layout["patches"][i]), i))
         seeds = []
         for i in order:
+            if len(seeds) >= options.refine_candidates:
+                break
             for p in _splits(layout, i):
                 if _key(p[:3]) not in tried and len(seeds) < options.refine_candidates:
                     seeds.append((p, i))
