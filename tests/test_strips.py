@@ -306,3 +306,45 @@ def test_a_compatibility_band_allows_parallel_loops_beyond_it(torus_surface):
     with pytest.raises(sw.InputError, match="compatibility_band"):
         Design.from_dict({"format": "stripweave-design", "version": 1, "strips": [],
                           "options": {"compatibility_band": -1}})
+
+
+def test_removing_the_strip_just_added_gives_back_the_same_state():
+    """DesignState keeps the state from before the last edit and swaps it back when the
+    design returns to it (automatic weaving removes every rejected strip): the strips,
+    singularities and mask are those a fresh derivation gives."""
+    surface = sw.from_shape(box(10), target_triangles=12000)
+    two = DesignSession(surface, Design(CUBE_BELTS[:2]))
+    before = ([two.strip(i)["points"].copy() for i in range(2)], quarter_indices(two),
+              list(two.native.disabled_nodes()))
+    two.add_strip(CUBE_BELTS[2])
+    assert two.native.strip_count == 3
+    two.remove_strip(2)
+    fresh = DesignSession(surface, Design(CUBE_BELTS[:2]))
+    for ds in (two, fresh):
+        assert ds.native.strip_count == 2
+        for i in range(2):
+            assert np.array_equal(ds.strip(i)["points"], before[0][i])
+        assert quarter_indices(ds) == before[1]
+        assert list(ds.native.disabled_nodes()) == before[2]
+    # And forward again (redo): the same three strips as deriving them at once.
+    two.add_strip(CUBE_BELTS[2])
+    three = DesignSession(surface, Design(CUBE_BELTS))
+    for i in range(3):
+        assert np.array_equal(two.strip(i)["points"], three.strip(i)["points"])
+
+
+def test_a_wider_compatibility_angle_refuses_more_directions(torus_meridian, torus_surface):
+    """compatibility_angle_deg (45, the paper's, by default) is how close to a strip's direction
+    a later loop may not run: 60 refuses more g' nodes, asking for crossings nearer to right
+    angles. It round-trips through the design file; a value outside (0, 90) is named."""
+    assert torus_meridian.native.compatibility_angle == pytest.approx(45.0)
+    wide = DesignSession(torus_surface, Design([MERIDIAN], options={"compatibility_angle_deg": 60}))
+    assert wide.native.compatibility_angle == pytest.approx(60.0)
+    narrow_mask = set(torus_meridian.native.disabled_nodes())
+    wide_mask = set(wide.native.disabled_nodes())
+    assert narrow_mask < wide_mask
+    assert Design.from_dict(wide.design.to_dict()).options["compatibility_angle_deg"] == 60
+    for bad in (0, 90, "wide", True):
+        with pytest.raises(sw.InputError, match="compatibility_angle_deg"):
+            Design.from_dict({"format": "stripweave-design", "version": 1, "strips": [],
+                              "options": {"compatibility_angle_deg": bad}})

@@ -136,6 +136,8 @@ void bind_design(py::module_& m) {
                                                     : band.cast<double>());
           },
           "How far from its loop (model units) a strip refuses parallel loops; None: the whole strip (paper)")
+      .def_property("compatibility_angle", &DesignState::compatibility_angle, &DesignState::set_compatibility_angle,
+                    "Degrees from a strip's direction within which it refuses loops (45: the paper's)")
       .def("disabled_nodes", &DesignState::disabled_nodes)
       .def("apply_mask", &DesignState::apply_mask,
            "Give the session the compatibility mask of every strip, for the next loop");

@@ -34,7 +34,11 @@ DEFAULT_OPTIONS = {"k": 4, "max_turn_deg": 30, "alpha": 1.0, "beta": 0.25, "boun
                    "feature_angle_deg": 30,
                    # How far from its loop (model units) a strip refuses parallel loops; None is the
                    # paper's whole strip (§6.2). A finite band allows denser layouts.
-                   "compatibility_band": None}
+                   "compatibility_band": None,
+                   # Within the band, loops whose direction is within this angle of the strip's
+                   # are refused: 45 is the paper's (§6.2); more asks for crossings nearer to
+                   # right angles (automatic refinement, weave.py).
+                   "compatibility_angle_deg": 45}
 # The options the loop search takes (the rest belong to the surface stage).
 LOOP_OPTIONS = ("k", "max_turn_deg", "alpha", "beta", "boundary")
 
@@ -154,6 +158,9 @@ class Design:
         band = options.get("compatibility_band")
         if band is not None and (isinstance(band, bool) or not isinstance(band, (int, float)) or band <= 0):
             raise _error("", f"options.compatibility_band must be a positive length or null, got {band!r}")
+        angle = options.get("compatibility_angle_deg", DEFAULT_OPTIONS["compatibility_angle_deg"])
+        if isinstance(angle, bool) or not isinstance(angle, (int, float)) or not 0 < angle < 90:
+            raise _error("", f"options.compatibility_angle_deg must be within (0, 90) degrees, got {angle!r}")
         for key in ("k", "max_turn_deg", "alpha", "beta", "feature_angle_deg"):
             if key in options and not isinstance(options[key], (int, float)):
                 raise _error("", f"options.{key} must be a number, got {options[key]!r}")

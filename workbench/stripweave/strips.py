@@ -28,6 +28,7 @@ class DesignSession:
         self.native = native.DesignState(self.loop_session.native, features,
                                          self.design.options["boundary"] == "aligned")
         self.native.compatibility_band = self.design.options.get("compatibility_band")
+        self.native.compatibility_angle = float(self.design.options.get("compatibility_angle_deg", 45))
         self.update()
 
     # --- editing -----------------------------------------------------------

@@ -22,20 +22,38 @@ strip brings new field singularities, and chasing every coloured region left the
 rocker-arm with 4 valence-2 and 3 valence-6 vertices (27 degrees mean corner deviation;
 19.9 without), while a cube needs its third belt to split the valence-2 lenses around
 pairs of corners. When no seed helps any more (or colour_share of the budget is spent), a
-refine phase splits the patch with the worst corner by a strip across its longest side,
-kept only if the real layout improves: its mean corner deviation (patches that do not
-read as quads counted 90 degrees off) plus region_penalty_deg per flaw of the assessment
-(flaws: extra extrema, valence mismatch, vertices of valence 2 or 6 and more the
-curvature does not ask for). For it an empty design gets a compatibility band (`band`),
-so that loops beside existing ones are allowed. It stops at the deviation or patch
-target, the work budget (which never stops work on red regions), or the strip limit.
+refine phase adds strips between the existing ones. Per step it takes the patches with the
+most area times corner deviation (_split_need), and for each the loops that would shorten
+its long sides: through the middle of a short side, along it (_splits: the middle of the
+corridor between the loop that crosses the long sides and its next parallel), last the
+old anchor across the patch. Each candidate's layout is predicted under the design's
+current singularities (`predict`: loops, arrangement and primal layout, no field or
+parameterization solve; the corners came out as after the solve in all but a few of the
+rocker-arm's candidates), the best of refine_candidates is derived, and kept only if the
+real layout improves: its mean corner deviation (patches that do not read as quads
+counted 90 degrees off) plus region_penalty_deg per flaw of the assessment it adds (flaws:
+extra extrema, valence mismatch, vertices of valence 2 or 6 and more the curvature does
+not ask for). Flaws it removes do not pay for worse corners: on scans the flaws are dozens
+of noise extrema (the rocker-arm: 110), whose count moves by a few with any strip and
+outweighed the corners (kept strips made the corners worse). For it an empty design gets a
+compatibility band (`band`), so that loops beside existing ones are allowed, and a
+compatibility angle of refine_angle_deg (the paper's 45 lets a loop cross a strip at 45
+degrees, and such crossings are patch corners 45 degrees off; 60 measured: rocker-arm 16.6
+against 21.0 degrees, ec_soapbox-A 16.1 against 16.6, spot 27.9 either way, bumpy-cube 16.5
+against 15.3, where it stopped at fewer patches). It stops at
+the deviation or patch target (no candidate that would pass refine_patches is taken), the
+work budget (which never stops work on red regions), or the strip limit.
 
 The work budget counts what weaving does, not how long it takes, so the same input gives
 the same design on any machine: a loop query is half a unit plus its own work count
 (WORK_PER_POLL per poll, one per 4096 settled g' nodes; queries run on one thread, where
-the count is exact, and stop at query_polls), scoring a candidate half a unit, deriving the
-design with a strip added or removed (field and parameterization, the dearest step) four,
-a primal layout one; a unit is 0.1 to 0.16 s on our 2-core machines when they are not
+the count is exact, and stop at query_polls, refine_query_polls in the refine phase: a
+refining loop that needs more search is a long detour, never kept in our measurements),
+scoring a candidate half a unit, predicting its layout one and a half, deriving the design
+with a strip added (field and parameterization, the dearest step) four, a primal layout
+one. Removing the strip just added costs nothing: DesignState keeps the state from before
+the last edit and swaps it back (a rejected strip used to cost a second derivation). A
+unit is about 0.08 s on our 2-core machines when they are not
 shared. Two wall-clock safety nets stay, generous enough never to act on the shared
 models on an idle machine: time_limit_s for the whole weave and query_timeout_s per loop
 query. Only they can make the result depend on the machine's speed, and the result says
@@ -47,6 +65,7 @@ deterministically. The same design and options always give the same result. All 
 (regions, centres, uncovered areas, anchors, layouts) is native (`weave_assessment`,
 `loop_anchor`, `compute_layout`); this module only decides.
 """
+import math
 import os
 import sys
 import threading
@@ -69,9 +88,10 @@ class WeaveOptions:
     seeds_per_region: int = 3       # seed points tried per region (centre first)
     alternatives: int = 3           # ranked alternatives tried when no seed point helps
     seed: int = 0                   # which seed point to try first (varies the result, deterministically)
-    budget: float = 120.0           # work units (module doc); past it, only red regions are worked on
+    budget: float = 200.0           # work units (module doc); past it, only red regions are worked on
     time_limit_s: float = 90.0      # wall-clock safety net, same effect (inf: none)
     band: float = 0.03              # refinement's compatibility_band (empty designs), in bbox diagonals (0: the paper's)
+    refine_angle_deg: float = 60.0  # ... and its compatibility angle (empty designs; 45: the paper's)
     colours: tuple = COLOURS        # the region colours that get strips (red always does)
     extreme_only: bool = True       # ... orange and yellow ones only where their vertex has valence 2 or 6+
     colour_share: float = 0.5       # ... spending at most this share of the budget before refining
@@ -79,6 +99,8 @@ class WeaveOptions:
     region_penalty_deg: float = 5.0 # ... kept if the corners improve, each flaw of the assessment counted as this
     refine_deviation_deg: float = 12.0   # ... while the mean corner deviation is above this
     refine_patches: int = 160       # ... and the layout has fewer patches than this (0: no limit)
+    refine_query_polls: int = 100   # ... its loop queries stopped past this work (0: query_polls)
+    refine_candidates: int = 2      # ... predicting this many candidate strips per added one, the best derived
     query_polls: int = 400          # a loop query doing more work is stopped (no proposal there; 0: no cap)
     query_timeout_s: float = 20.0   # a loop query running longer is cancelled (wall-clock safety net)
     verbose: bool = False           # progress on stderr
@@ -202,7 +224,9 @@ def _say(options, text):
 
 # Work units per step (module doc), in proportion to their typical cost: a loop query
 # costs by its own work count (polls, one per 4096 settled g' nodes, exact with one thread).
-WORK_QUERY, WORK_PER_POLL, WORK_ASSESS, WORK_DERIVE, WORK_LAYOUT = 0.5, 0.04, 0.5, 4.0, 1.0
+# Removing the strip just added (a rejected proposal) restores the design's state from before
+# the addition (DesignState keeps it) instead of deriving it again: next to nothing.
+WORK_QUERY, WORK_PER_POLL, WORK_ASSESS, WORK_DERIVE, WORK_LAYOUT, WORK_RESTORE = 0.5, 0.04, 0.5, 4.0, 1.0, 0.0
 
 
 class _Weaver:
@@ -224,17 +248,31 @@ class _Weaver:
         self.work += WORK_ASSESS
         return native.weave_assessment(self.ds.native, list(extra), self.options.seeds_per_region if seeds else 0)
 
-    def quality(self, a, layout):
+    def quality(self, a, layout, base_flaws=None):
         """What additions past validity lower: the real layout's mean corner deviation, plus
-        region_penalty_deg per flaw the assessment sees (flaws())."""
+        region_penalty_deg per flaw the assessment sees (flaws()); given the flaws before the
+        addition (base_flaws), fewer flaws than those count as those (module doc: removing a
+        flaw does not pay for worse corners)."""
+        if base_flaws is not None:
+            return _deviation(layout) + self.options.region_penalty_deg * (max(0, flaws(a) - base_flaws) + base_flaws)
         return _deviation(layout) + self.options.region_penalty_deg * flaws(a)
+
+    def predict(self, loop):
+        """The layout and assessment the design would have with the loop added, under the
+        design's current singularities (no field or parameterization solve)."""
+        sing = self.ds.native.singularities()
+        self.work += WORK_ASSESS + WORK_LAYOUT
+        lay = native.layout(self.session, list(native.design_loops(self.ds.native)) + [loop],
+                            [s["vertex"] for s in sing], [round(4 * s["index"]) for s in sing], False)
+        return lay, native.weave_assessment(self.ds.native, [loop], 0)
 
     def layout(self):
         self.work += WORK_LAYOUT
         return _layout(self.ds)
 
     def remove(self, index):
-        self.work += WORK_DERIVE
+        """Remove the strip just added (the last one): DesignState restores its kept state."""
+        self.work += WORK_RESTORE if index == len(self.ds.design.strips) - 1 else WORK_DERIVE
         self.ds.remove_strip(index)
 
     def proposals(self, point, alternatives):
@@ -298,7 +336,8 @@ class _Weaver:
         self.work += WORK_DERIVE
         try:
             index = self.ds.add_strip([anchor])
-        except native.InputError:
+        except native.InputError as e:
+            _say(self.options, f"  rejected by the design: {e}")
             return None
         return index
 
@@ -323,30 +362,71 @@ def _deviation(layout):
     return total / corners
 
 
-def _across(layout, patch):
-    """A directional anchor at the middle of the patch's longest side, pointing across the
-    patch to the middle of the opposite side: the loop there splits the patch along its
-    length (it crosses the longest side and its opposite, beside the loop that already
-    does)."""
+def _at_length(points, t):
+    """The point at fraction t of a polyline's length."""
+    lengths = [math.dist(a, b) for a, b in zip(points, points[1:])]
+    goal, run = t * sum(lengths), 0.0
+    for a, b, l in zip(points, points[1:], lengths):
+        if run + l >= goal and l > 0:
+            s = (goal - run) / l
+            return [x + s * (y - x) for x, y in zip(a, b)]
+        run += l
+    return list(points[-1])
+
+
+def _split_need(p):
+    """How much splitting the patch may gain: its area times its mean corner deviation (a
+    patch that is not a quad: 90 degrees). Not the worst corner alone: refinement then
+    worked where the corners were worst (often a narrow place, the rocker-arm's ring) and
+    bunched loops there, leaving the large patches elsewhere as they were; area times
+    deviation spreads the loops over the surface (measured on the rocker-arm, otherwise the
+    same refinement: 18.5 against 25.4 degrees mean)."""
+    dev = [abs(x - 90) for x in p["corner_angles_deg"]] if p.get("quad", True) else []
+    return p["area"] * (sum(dev) / len(dev) if dev else 90.0)
+
+
+def _splits(layout, patch):
+    """Directional anchors for loops that shorten the patch's longest side, best first.
+
+    A patch holds one crossing of two loops, and each of its sides (primal edges) crosses one
+    of the four arcs there: the loop A that crosses the longest side runs through the middle
+    of the patch, parallel to the two short sides. A loop that shortens the long sides must be
+    parallel to A, and the best place for it is the middle of the corridor between A and its
+    next parallel loop, which is where the primal edge between them runs: a short side. So
+    the anchor is the middle of a short side (where the perpendicular loop crosses it),
+    pointing along it, the longer short side first. Not the middle of the long side pointing
+    across first: that anchor lies on A itself, whose parallels the compatibility mask forbids
+    there, and the loop found there bends away, often diagonally across the other loops (seen
+    on the rocker-arm: corners of 60 and 120 degrees along it) or into a bunch of parallels
+    where the mask allows them. It stays as the last candidate."""
     sides = layout["patches"][patch]["edges"]
-    k = max(range(len(sides)), key=lambda j: (layout["edges"][sides[j]]["length"], -sides[j]))
-    def middle(e):
-        points = layout["edges"][e]["points"]
-        return points[len(points) // 2]
-    p = middle(sides[k])
+    edges = layout["edges"]
     if len(sides) != 4:
-        return list(p)
-    q = middle(sides[(k + 2) % 4])
+        return []
+    k = max(range(4), key=lambda j: (edges[sides[j]]["length"], -sides[j]))
+    short = sorted(((k + 1) % 4, (k + 3) % 4), key=lambda j: (-edges[sides[j]]["length"], sides[j]))
+    out = []
+    for j in short:
+        points = edges[sides[j]]["points"]
+        p, a, b = _at_length(points, 0.5), _at_length(points, 0.25), _at_length(points, 0.75)
+        d = [y - x for x, y in zip(a, b)]
+        out.append(list(p) + d if any(d) else list(p))
+    # Last, the middle of the long side pointing across to the opposite one: on A itself, so
+    # the loop found there bends away from A (the mask), which sometimes splits a patch the
+    # corridor loops cannot reach (ec_soapbox-A: 17.1 against 20.8 degrees with it).
+    p, q = _at_length(edges[sides[k]]["points"], 0.5), _at_length(edges[sides[(k + 2) % 4]]["points"], 0.5)
     d = [b - a for a, b in zip(p, q)]
-    return list(p) + d if any(d) else list(p)
+    out.append(list(p) + d if any(d) else list(p))
+    return out
 
 
 def _refine(w, ds, options, a, result, elapsed):
     """Past the paper's colours: a region can be fine by §4.2 and still give patches with
-    corners far from 90 degrees (a cube-like layout wrapped on a cylinder). Split the worst
-    patch by the best strip across its longest side (a directional anchor at that side's
-    middle, pointing across the patch), keep it if the real layout improves (w.quality),
-    until the deviation or the patch target is reached or the work budget is spent."""
+    corners far from 90 degrees (a cube-like layout wrapped on a cylinder). Add the best
+    predicted of refine_candidates strips that would split the patches with the most area
+    times deviation (_split_need, _splits), keep it if the real layout improves (w.quality),
+    until the deviation or the patch target is reached or the work budget is spent (module
+    doc)."""
     if options.band and ds.design.options.get("compatibility_band") is None and w.user_strips == 0:
         # Refinement splits patches by loops beside the ones there: the paper's mask refuses
         # every loop parallel to a strip anywhere on it, a band only near its loop. Not
@@ -357,6 +437,9 @@ def _refine(w, ds, options, a, result, elapsed):
         band = options.band * ds.surface.report()["bbox_diagonal"]
         ds.design.options["compatibility_band"] = band
         ds.native.compatibility_band = band
+        if options.refine_angle_deg != ds.design.options.get("compatibility_angle_deg", 45):
+            ds.design.options["compatibility_angle_deg"] = options.refine_angle_deg
+            ds.native.compatibility_angle = float(options.refine_angle_deg)
         w.work += WORK_DERIVE
         ds.update()
         a = w.assess()
@@ -364,6 +447,8 @@ def _refine(w, ds, options, a, result, elapsed):
         layout = w.layout()
     except ImportError:
         return a
+    if options.refine_query_polls:
+        w.session.max_query_polls = min(options.query_polls or options.refine_query_polls, options.refine_query_polls)
     tried = set()
     while len(ds.design.strips) < options.max_strips and not w.out_of_work(elapsed):
         deviation = _deviation(layout)
@@ -375,49 +460,68 @@ def _refine(w, ds, options, a, result, elapsed):
         if limit and patches >= limit:
             result.stopped = "patch target"
             break
-        # Patches by their worst corner, then across each one's longest side (a patch that is
-        # not a quad has no sides to go across).
-        order = sorted(range(patches), key=lambda i: -max((abs(x - 90) for x in layout["patches"][i]["corner_angles_deg"]),
-                                                          default=90.0))
-        seed = None
+        current = w.quality(a, layout)
+        base_flaws = flaws(a)
+        # Patches by how much splitting them may gain (_split_need), and per patch the
+        # anchors of the loops that would shorten its long sides (_splits).
+        order = sorted(range(patches), key=lambda i: (-_split_need(layout["patches"][i]), i))
+        seeds = []
         for i in order:
-            if not layout["patches"][i].get("quad", True):
-                continue
-            p = _across(layout, i)
-            if _key(p[:3]) not in tried:
-                seed, worst = p, i
+            if len(seeds) >= options.refine_candidates:
                 break
-        if seed is None:
+            for p in _splits(layout, i):
+                if _key(p[:3]) not in tried and len(seeds) < options.refine_candidates:
+                    seeds.append((p, i))
+        if not seeds:
             # No quad patch left to split (a coarse layout of patches that do not read as
             # quads): the largest regions' seed points, any direction.
             for i, r in sorted(enumerate(a["regions"]), key=lambda x: (-x[1]["area"], x[0])):
-                seed = next((list(p) for p in r.get("seeds", ()) if _key(p) not in tried), None)
-                if seed is not None:
-                    worst = f"of region {i}"
+                p = next((list(q) for q in r.get("seeds", ()) if _key(q) not in tried), None)
+                if p is not None:
+                    seeds.append((p, f"of region {i}"))
                     break
-        if seed is None:
+        if not seeds:
             result.stopped = "no seed helps"
             break
+        # Each candidate's layout is predicted under the design's singularities (w.predict: no
+        # solve); only the best is derived and checked for real.
+        best = None
+        for seed, patch in seeds:
+            if w.out_of_work(elapsed):
+                break
+            proposals = w.proposals(seed, 1)
+            if not proposals:
+                tried.add(_key(seed[:3]))
+                continue
+            pred_layout, pred = w.predict(proposals[0])
+            q = w.quality(pred, pred_layout, base_flaws)
+            over = limit and len(pred_layout["patches"]) > limit and len(pred_layout["patches"]) > patches
+            if pred["colours"]["red"] or score(pred)[0] > score(a)[0] or q >= current or over:
+                tried.add(_key(seed[:3]))    # no gain from here in this design
+                continue
+            if best is None or q < best[0]:
+                best = (q, seed, patch, proposals[0])
+        if best is None:
+            continue
+        q, seed, worst, loop = best
         tried.add(_key(seed[:3]))
         _say(options, f"strip {len(ds.design.strips) + 1}: refine patch {worst} (corner deviation "
-                      f"{deviation:.1f} deg, {patches} patches, {elapsed():.1f} s)")
-        proposals = w.proposals(seed, 1)
-        if not proposals:
-            continue
-        index = w.add(proposals[0], seed)
+                      f"{deviation:.1f} deg, {patches} patches, predicted quality {current:.2f} -> {q:.2f}, "
+                      f"{elapsed():.1f} s)")
+        index = w.add(loop, seed)
         if index is None:
             continue
         after_layout = w.layout()
         after = w.assess()
         if after["colours"]["red"] or score(after)[0] > score(a)[0] or \
-                w.quality(after, after_layout) >= w.quality(a, layout):
+                w.quality(after, after_layout, base_flaws) >= current:
             w.remove(index)
             continue
         ds.design.strips[index].extra["added_by"] = {"reason": "corner deviation", "region": -1,
                                                      "colour": "none", "seed": [float(x) for x in seed[:3]]}
         result.log.append({"strip": index, "reason": "corner deviation", "region": -1, "colour": "none",
                            "seed": [float(x) for x in seed[:3]], "anchor": ds.design.strips[index].anchors[0].to_list(),
-                           "cost": proposals[0].cost, "deviation_before": deviation,
+                           "cost": loop.cost, "deviation_before": deviation,
                            "deviation_after": _deviation(after_layout), "time_s": round(elapsed(), 3)})
         a, layout = after, after_layout
     else:

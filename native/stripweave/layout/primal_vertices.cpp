@@ -29,7 +29,7 @@ std::vector<PrimalVertex> place_primal_vertices(const PrimalContext& ctx, const 
   const LoopArrangement& A = ctx.arrangement;
   const Index nr = static_cast<Index>(ctx.regions.regions.size());
   const Index nw = ctx.wedges.count();
-  const std::vector<double> strength = corner_strength(ctx.surface);
+  const std::vector<double> strength = corner_strength(ctx.surface, ctx.surface_crease);
 
   // Distance from the loops, within each region.
   std::vector<Index> on_loops;

@@ -49,7 +49,35 @@ DesignState::Solved DesignState::solve(const std::vector<LoopPath>& paths, Desig
   return out;
 }
 
+void DesignState::swap_derived(Derived& d) {
+  std::swap(strips_, d.strips);
+  std::swap(field_, d.field);
+  std::swap(param_, d.param);
+  std::swap(timings_, d.timings);
+  std::swap(mask_, d.mask);
+}
+
 void DesignState::set_strips(const std::vector<StripSpec>& specs) {
+  // Back to the design before the last edit (a rejected strip removed): swap
+  // the kept state back in, and keep the edited one in its place (redo).
+  if (previous_.valid && specs.size() == previous_.strips.size() &&
+      std::equal(specs.begin(), specs.end(), previous_.strips.begin(),
+                 [](const StripSpec& s, const DesignStrip& d) { return s == d.spec; })) {
+    swap_derived(previous_);
+    session_->clear_disabled();
+    return;
+  }
+  bool same = specs.size() == strips_.size();
+  for (size_t i = 0; same && i < specs.size(); ++i) same = specs[i] == strips_[i].spec;
+  if (!same) {
+    // The state before this edit, for going back to it (copied: the edit keeps its prefix).
+    previous_.strips = strips_;
+    previous_.field = field_;
+    previous_.param = param_;
+    previous_.timings = timings_;
+    previous_.mask = mask_;
+    previous_.valid = true;
+  }
   // Keep the unchanged prefix: its loops and masks do not depend on later strips.
   size_t keep = 0;
   while (keep < specs.size() && keep < strips_.size() && specs[keep] == strips_[keep].spec) ++keep;
@@ -147,17 +175,35 @@ void DesignState::finish(const std::vector<LoopPath>& paths, double loops_ms) {
   for (size_t i = 0; i < strips_.size(); ++i) strips_[i].strip = std::move(all.strips[i]);
 }
 
+void DesignState::set_compatibility_angle(double degrees) {
+  if (!(degrees > 0 && degrees < 90)) throw InputError("the compatibility angle must be within (0, 90) degrees");
+  if (degrees == angle_deg_) return;
+  angle_deg_ = degrees;
+  rederive_all();
+}
+
 void DesignState::set_compatibility_band(double band) {
   if (!(band > 0)) throw InputError("the compatibility band must be positive (or unbounded)");
   if (band == band_) return;
   band_ = band;
-  strips_.clear();  // every prefix mask depends on it
+  rederive_all();
+}
+
+void DesignState::rederive_all() {
+  // Every prefix mask depends on the band and the angle: derive everything again
+  // (from an empty, consistent state, so that nothing derived before is restored).
+  strips_.clear();
+  field_ = {};
+  param_ = {};
+  timings_ = {};
+  mask_.clear();
+  previous_ = {};
 }
 
 std::vector<Index> DesignState::mask_of(const std::vector<Strip>& strips) const {
   std::vector<Index> mask;
   for (const Strip& strip : strips) {
-    const std::vector<Index> nodes = incompatible_nodes(session_->surface(), session_->graph(), strip, 45.0, band_);
+    const std::vector<Index> nodes = incompatible_nodes(session_->surface(), session_->graph(), strip, angle_deg_, band_);
     mask.insert(mask.end(), nodes.begin(), nodes.end());
   }
   std::sort(mask.begin(), mask.end());

@@ -16,7 +16,10 @@
 // Editing (set_strips) recomputes from the first strip that changed: the
 // loops before it, and the masks they imply, are kept. Each strip i > 0 costs
 // one field and parameterization solve over loops 0..i-1 (its mask), and the
-// full design one more.
+// full design one more. Going back to the design before the last edit (a strip
+// tried and removed again, as automatic weaving does for every rejected
+// proposal) restores the state kept from before that edit instead of solving
+// again: the solve is a function of the loops, so the result is the same.
 // Errors: InputError naming the strip ("strip 3: ...") for an anchor off
 // the surface or constraints no loop can meet.
 #pragma once
@@ -60,6 +63,12 @@ class DesignState {
   // re-derives every strip at the next set_strips.
   void set_compatibility_band(double band);
   double compatibility_band() const { return band_; }
+  // Within that band, a g' node is refused if its direction is within this
+  // angle (degrees, in (0, 90)) of the strip's loop direction: 45, the
+  // default, is the paper's; more asks later loops to cross the strip closer
+  // to a right angle. Changing it re-derives every strip at the next set_strips.
+  void set_compatibility_angle(double degrees);
+  double compatibility_angle() const { return angle_deg_; }
 
   // The compatibility mask of all strips, sorted node ids.
   const std::vector<Index>& disabled_nodes() const { return mask_; }
@@ -70,6 +79,19 @@ class DesignState {
   const Surface& surface() const { return session_->surface(); }
 
  private:
+  // Everything set_strips derives, kept from before the last edit (undo).
+  struct Derived {
+    std::vector<DesignStrip> strips;
+    CrossField field;
+    Parameterization param;
+    DesignTimings timings;
+    std::vector<Index> mask;
+    bool valid = false;
+  };
+  void swap_derived(Derived& d);
+  // Forget everything derived (the mask's parameters changed).
+  void rederive_all();
+
   struct Solved {
     CrossField field;
     Parameterization param;
@@ -84,11 +106,13 @@ class DesignState {
   std::shared_ptr<LoopSession> session_;
   FieldOptions options_;
   double band_ = std::numeric_limits<double>::infinity();
+  double angle_deg_ = 45.0;
   std::vector<DesignStrip> strips_;
   CrossField field_;
   Parameterization param_;
   DesignTimings timings_;
   std::vector<Index> mask_;  // disabled_nodes(), derived with the strips
+  Derived previous_;         // the derived state before the last edit
   // The surface's elimination order for S (parameterization.h), computed at
   // the first solve: it depends on the mesh alone.
   mutable std::vector<Index> vertex_order_;

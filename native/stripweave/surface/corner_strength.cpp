@@ -8,14 +8,14 @@
 
 namespace stripweave {
 
-std::vector<double> corner_strength(const Surface& s) {
+std::vector<double> corner_strength(const Surface& s, const std::vector<std::uint8_t>& crease) {
   const Index nv = s.mesh.num_vertices();
   const std::vector<double> defect = angle_defects(s.mesh, s.topology);
   std::vector<int> features(nv, 0);
   std::vector<std::uint8_t> boundary(nv, 0);
   for (Index e = 0; e < s.topology.num_edges(); ++e) {
     for (Index v : s.topology.edges[e]) {
-      features[v] += s.edge_class[e] == EdgeClass::Feature;
+      features[v] += crease[e];
       boundary[v] |= s.topology.is_boundary_edge(e);
     }
   }
