@@ -16,7 +16,7 @@ import FreeCAD  # noqa: F401  (before Part)
 import Part
 
 import stripweave as sw
-from models import box, sphere, torus
+from models import box, capped_cylinder, sphere, torus
 from stripweave.design import Design
 from stripweave.layout import compute_layout
 from stripweave.loops import LoopSession
@@ -270,3 +270,23 @@ def test_layout_cli_names_a_missing_design(tmp_path):
                          timeout=600)
     assert run.returncode != 0
     assert "nope.json" in run.stderr
+
+
+def test_patches_over_creases_are_marked():
+    """layout.json's patches tell how much crease lies inside them ("crease_length", model
+    units) and whether that makes them "creased" (more than 1% of the diagonal): the
+    capped cylinder's box design puts every rim on patch sides (none creased), two loops
+    through the axis leave the rims to two patches, which hold at least one whole rim
+    (2 pi 5) and less than both."""
+    shape = capped_cylinder(5, 20)
+    boxed = DesignSession(sw.from_shape(shape, target_triangles=8000),
+                          Design([[(5, 0, 10, 0, 1, 0)], [(-5, 0, 10, 0, 0, 1)], [(0, 5, 10, 0, 0, 1)]]))
+    L = boxed.native.layout()
+    assert len(L["patches"]) == 6 and not any(p["creased"] for p in L["patches"])
+    assert all(p["crease_length"] == 0 for p in L["patches"])
+    halves = DesignSession(sw.from_shape(shape, target_triangles=8000),
+                           Design([[(5, 0, 10, 0, 0, 1)], [(0, 5, 10, 0, 0, 1)]]))
+    L = halves.native.layout()
+    assert len(L["patches"]) == 2 and all(p["creased"] for p in L["patches"])
+    inside = sum(p["crease_length"] for p in L["patches"])
+    assert 2 * math.pi * 5 < inside < 4 * math.pi * 5

@@ -11,7 +11,9 @@
 //     edges      [{"points" (n,3), "vertices": [i, j], "arc", "loop",
 //                  "sharp", "boundary", "length"}]
 //     patches    [{"edges": [4], "reversed": [4], "corners": [4 vertices],
-//                  "corner_angles_deg": [4], "area", "quad"}]; the sides
+//                  "corner_angles_deg": [4], "area", "quad", "crease_length"
+//                  (creases inside the patch, not on its sides), "creased"
+//                  (more than 1% of the diagonal of them)}]; the sides
 //                  counter-clockwise seen from outside, side k running from
 //                  corner k to corner k + 1
 //     summary    {"patches", "irregular_vertices": {valence: n} (inner
@@ -149,6 +151,8 @@ py::dict layout_dict(const Surface& s, const std::vector<Singularity>& singular,
     d["corner_angles_deg"] = angles;
     d["area"] = p.area * sim.scale * sim.scale;
     d["quad"] = p.quad;
+    d["crease_length"] = p.crease_length * sim.scale;
+    d["creased"] = p.creased();
     patches.append(d);
   }
   auto counts = [](const std::map<int, int>& m) {

@@ -83,15 +83,18 @@ def rasterize(screen, triangles, width, height):
     keep = np.abs(area) > 1e-12
     lo = np.floor(np.minimum(np.minimum(p0, p1), p2)[:, :2]).astype(int)
     hi = np.ceil(np.maximum(np.maximum(p0, p1), p2)[:, :2]).astype(int)
-    size = np.maximum(hi - lo + 1, 1).max(axis=1)
-    bins = np.where(keep, np.ceil(np.log2(size)).astype(int), -1)
+    # Bins by the power-of-two width and height of the bounding box (not its larger side:
+    # a CAD tessellation's long thin triangles would test a square of pixels each).
+    size = np.maximum(hi - lo + 1, 1)
+    log = np.ceil(np.log2(size)).astype(int)
+    bins = np.where(keep, log[:, 0] * 64 + log[:, 1], -1)
     pix_list, depth_list, tri_list, bary_list = [], [], [], []
     for b in np.unique(bins[bins >= 0]):
         ids = np.nonzero(bins == b)[0]
-        B = 1 << int(b)
-        oy, ox = np.mgrid[0:B, 0:B]
-        off = np.stack([ox.ravel(), oy.ravel()], 1)  # (B*B, 2)
-        chunk = max(1, 4_000_000 // (B * B))
+        BX, BY = 1 << int(b // 64), 1 << int(b % 64)
+        oy, ox = np.mgrid[0:BY, 0:BX]
+        off = np.stack([ox.ravel(), oy.ravel()], 1)  # (BX*BY, 2)
+        chunk = max(1, 4_000_000 // (BX * BY))
         for k in range(0, len(ids), chunk):
             c = ids[k:k + chunk]
             px = lo[c, None, 0] + off[None, :, 0]

@@ -362,6 +362,16 @@ def _deviation(layout):
     return total / corners
 
 
+def _creased(layout):
+    """How much crease lies inside the layout's patches (model units, patches the layout
+    marks "creased": more than 1% of the diagonal inside, layout.json). Refinement may not
+    raise it: a patch over a crease is one no smooth patch fits (the handle's refinement
+    laid one over its top rim, and its STEP missed the tolerance there), whatever its
+    corners. Counting such patches as 90 degrees off instead left a tube whose creases run
+    its whole length at one patch: every single strip still left each patch over a crease."""
+    return sum(p.get("crease_length", 0.0) for p in layout.get("patches", ()) if p.get("creased", False))
+
+
 def _at_length(points, t):
     """The point at fraction t of a polyline's length."""
     lengths = [math.dist(a, b) for a, b in zip(points, points[1:])]
@@ -462,6 +472,7 @@ def _refine(w, ds, options, a, result, elapsed):
             break
         current = w.quality(a, layout)
         base_flaws = flaws(a)
+        creased = _creased(layout)
         # Patches by how much splitting them may gain (_split_need), and per patch the
         # anchors of the loops that would shorten its long sides (_splits).
         order = sorted(range(patches), key=lambda i: (-_split_need(layout["patches"][i]), i))
@@ -496,7 +507,8 @@ def _refine(w, ds, options, a, result, elapsed):
             pred_layout, pred = w.predict(proposals[0])
             q = w.quality(pred, pred_layout, base_flaws)
             over = limit and len(pred_layout["patches"]) > limit and len(pred_layout["patches"]) > patches
-            if pred["colours"]["red"] or score(pred)[0] > score(a)[0] or q >= current or over:
+            creases = _creased(pred_layout) > creased + 1e-9 * (1 + creased)
+            if pred["colours"]["red"] or score(pred)[0] > score(a)[0] or q >= current or over or creases:
                 tried.add(_key(seed[:3]))    # no gain from here in this design
                 continue
             if best is None or q < best[0]:
@@ -514,7 +526,8 @@ def _refine(w, ds, options, a, result, elapsed):
         after_layout = w.layout()
         after = w.assess()
         if after["colours"]["red"] or score(after)[0] > score(a)[0] or \
-                w.quality(after, after_layout, base_flaws) >= current:
+                w.quality(after, after_layout, base_flaws) >= current or \
+                _creased(after_layout) > creased + 1e-9 * (1 + creased):
             w.remove(index)
             continue
         ds.design.strips[index].extra["added_by"] = {"reason": "corner deviation", "region": -1,

@@ -101,6 +101,13 @@ void cut_primal_patches(const PrimalContext& ctx, QuadLayout& L) {
   }
   if (orphans > 0)
     L.problems.push_back(std::to_string(orphans) + " refined triangles lie in no patch (a piece without a crossing)");
+  // Creases inside a patch: crease edges with the same patch on both sides.
+  for (Index e = 0; e < rt.num_edges(); ++e) {
+    if (!ctx.edge_feature[e] || rt.is_boundary_edge(e)) continue;
+    const Index a = L.triangle_patch[rt.edge_triangles[e][0]], b = L.triangle_patch[rt.edge_triangles[e][1]];
+    if (a != kInvalid && a == b)
+      L.patches[a].crease_length += (L.positions[rt.edges[e][0]] - L.positions[rt.edges[e][1]]).norm();
+  }
 
   // Each patch's boundary: half-edge (t, i) runs from corner i to i + 1 of t
   // with t on its left; the next starts at the wedge where it ends.

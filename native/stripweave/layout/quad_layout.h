@@ -82,6 +82,13 @@ struct PrimalPatch {
   std::vector<Index> triangles;        // refined triangles
   double area = 0;                     // normalized units squared
   bool quad = false;                   // its boundary reads as exactly four sides
+  // Length of the creases (sharp feature edges the layout follows) inside the
+  // patch, not on its sides, normalized units: a patch laid over a crease,
+  // which no smooth patch fits.
+  double crease_length = 0;
+  // Over a crease: more than 1% of the bounding-box diagonal of it inside
+  // (less is a nick at a corner that the fit absorbs).
+  bool creased() const { return crease_length > 0.01; }
 };
 
 struct QuadLayout {
