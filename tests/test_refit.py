@@ -267,3 +267,24 @@ def test_weave_step_writes_the_deviation_picture(tmp_path):
     fit["per_patch"].pop(0)
     tints = patch_deviation_tints(details, fit, len(ds.surface.triangles))
     assert 0.1 < np.mean(np.all(np.isclose(tints, NOT_FITTED), axis=1)) < 0.25
+
+
+def test_no_clean_quad_to_fit_is_named():
+    """A valid layout none of whose patches reads as a clean quad (trj5's single patch, over
+    its creases) has nothing to fit: the error says so, for one patch and for several."""
+    class Native:
+        def __init__(self, made):
+            self.made = made
+
+        def patch_network(self):
+            return {"patches": [], "layout_patches": self.made}
+
+    class Session:
+        def __init__(self, made):
+            self.native = Native(made)
+    with pytest.raises(sw.InputError, match="the layout's only patch is not a clean quad"):
+        refit_design(Session(1))
+    with pytest.raises(sw.InputError, match="none of the layout's 3 patches is a clean quad"):
+        refit_design(Session(3))
+    with pytest.raises(sw.InputError, match="not valid"):
+        refit_design(Session(0))

@@ -42,7 +42,7 @@ def refit_design(design_session, tolerance=None, step_path=None, **options):
     if not network["patches"]:
         made = int(network.get("layout_patches", 0))
         if made:
-            which = "the layout's only patch is" if made == 1 else f"none of the layout's {made} patches is"
+            which = "the layout's only patch is not" if made == 1 else f"none of the layout's {made} patches is"
             raise native.InputError(f"{which} a clean quad (see the problems in layout.json): no patches to fit")
         raise native.InputError("the design's layout is not valid (red regions): no patches to fit")
     result = native.refit(design_session.surface, network, tolerance=tolerance, step_path=step_path, **options)
