@@ -83,15 +83,18 @@ def rasterize(screen, triangles, width, height):
     keep = np.abs(area) > 1e-12
     lo = np.floor(np.minimum(np.minimum(p0, p1), p2)[:, :2]).astype(int)
     hi = np.ceil(np.maximum(np.maximum(p0, p1), p2)[:, :2]).astype(int)
-    # Bins by the power-of-two width and height of the bounding box (not its larger side:
-    # a CAD tessellation's long thin triangles would test a square of pixels each).
+    # Bins by the width and height of the bounding box, each rounded up to the next of
+    # 1, 2, 3, 4, 6, 8, 12, ... (at most 1.5 times over, where powers of two are up to
+    # twice), not by its larger side: a CAD tessellation's long thin triangles would test
+    # a square of pixels each.
     size = np.maximum(hi - lo + 1, 1)
-    log = np.ceil(np.log2(size)).astype(int)
-    bins = np.where(keep, log[:, 0] * 64 + log[:, 1], -1)
+    steps = np.unique(np.concatenate([2 ** np.arange(16), 3 * 2 ** np.arange(15)]))
+    step = np.searchsorted(steps, size)
+    bins = np.where(keep, step[:, 0] * 64 + step[:, 1], -1)
     pix_list, depth_list, tri_list, bary_list = [], [], [], []
     for b in np.unique(bins[bins >= 0]):
         ids = np.nonzero(bins == b)[0]
-        BX, BY = 1 << int(b // 64), 1 << int(b % 64)
+        BX, BY = int(steps[b // 64]), int(steps[b % 64])
         oy, ox = np.mgrid[0:BY, 0:BX]
         off = np.stack([ox.ravel(), oy.ravel()], 1)  # (BX*BY, 2)
         chunk = max(1, 4_000_000 // (BX * BY))
