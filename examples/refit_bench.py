@@ -112,11 +112,10 @@ def loft_case():
 def loft4_case():
     """The lofted part with two belts around the side (z 8 and 16) and the two cap loops."""
     sys.path.append(os.path.join(REPO, "tests"))
-    from test_refit import lofted_solid, side_point
+    from test_refit import lofted_solid, two_belt_loft_design
     shape = lofted_solid()
-    belts = [[side_point(shape, 0.3, z) + (-math.sin(0.3), math.cos(0.3), 0)] for z in (8, 16)]
-    caps = [[side_point(shape, 0, 12) + (0, 0, 1)], [side_point(shape, math.pi / 2, 12) + (0, 0, 1)]]
-    return shape, belts + caps, {"compatibility_band": 2.0}
+    d = two_belt_loft_design(shape)
+    return shape, d.anchor_lists(), d.options
 
 
 def utube_case():

@@ -124,6 +124,14 @@ def test_freeform_loft_box_design(tmp_path):
     assert r["step_faces_read_back"] == 6 and step_faces(step) == 6
 
 
+def two_belt_loft_design(shape):
+    """The lofted part's design with regular vertices: two belts around the side (z 8 and
+    16; parallel loops, allowed by a compatibility band) and the two loops over the caps."""
+    belts = [[side_point(shape, 0.3, z) + (-math.sin(0.3), math.cos(0.3), 0)] for z in (8, 16)]
+    caps = [[side_point(shape, 0, 12) + (0, 0, 1)], [side_point(shape, math.pi / 2, 12) + (0, 0, 1)]]
+    return Design(belts + caps, options={"compatibility_band": 2.0})
+
+
 def test_freeform_loft_regular_seams():
     """The lofted part with two belts around the side and two loops over the caps: the
     belts (parallel loops, allowed by a compatibility band) leave a middle band of 4
@@ -131,11 +139,7 @@ def test_freeform_loft_regular_seams():
     them must be tangent continuous (the issue: under 1 degree at regular vertices, whole
     seam), with the tolerance met and the shell closed."""
     shape = lofted_solid()
-    belt = [side_point(shape, 0.3, z) + (-math.sin(0.3), math.cos(0.3), 0) for z in (8, 16)]
-    anchors = [[belt[0]], [belt[1]], [side_point(shape, 0, 12) + (0, 0, 1)],
-               [side_point(shape, math.pi / 2, 12) + (0, 0, 1)]]
-    ds = DesignSession(sw.from_shape(shape, target_triangles=15000),
-                       Design(anchors, options={"compatibility_band": 2.0}))
+    ds = DesignSession(sw.from_shape(shape, target_triangles=15000), two_belt_loft_design(shape))
     L = ds.native.layout()
     assert sorted(v["valence"] for v in L["vertices"]) == [3] * 8 + [4] * 4
     r = refit_design(ds)
@@ -212,11 +216,7 @@ def test_refit_same_on_one_and_two_cores():
     two-belt design, fitted pinned to one core and then on all the process may use (two on
     our machines), gives identical patches."""
     shape = lofted_solid()
-    belt = [side_point(shape, 0.3, z) + (-math.sin(0.3), math.cos(0.3), 0) for z in (8, 16)]
-    anchors = [[belt[0]], [belt[1]], [side_point(shape, 0, 12) + (0, 0, 1)],
-               [side_point(shape, math.pi / 2, 12) + (0, 0, 1)]]
-    ds = DesignSession(sw.from_shape(shape, target_triangles=6000),
-                       Design(anchors, options={"compatibility_band": 2.0}))
+    ds = DesignSession(sw.from_shape(shape, target_triangles=6000), two_belt_loft_design(shape))
     cores = os.sched_getaffinity(0)
     try:
         os.sched_setaffinity(0, {min(cores)})

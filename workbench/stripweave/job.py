@@ -47,14 +47,17 @@ def _surface_of(model, progress, surface_options):
 
 
 def _layout_of(ds):
-    """layout.json's content: layout.compute_layout where the build has it; else the regions
-    alone (no primal layout: empty vertices, edges and patches)."""
+    """(layout.json's content, the native layout with its per-triangle details or None):
+    layout.layout_json of the design's layout where the build has it, the details kept for
+    preview.png and deviation.png (one layout for the three); else the regions alone (no
+    primal layout: empty vertices, edges and patches) and None."""
     try:
-        from .layout import compute_layout
+        from .layout import layout_json
     except ImportError:
-        compute_layout = None
-    if compute_layout is not None:
-        return compute_layout(ds)
+        layout_json = None
+    if layout_json is not None:
+        details = ds.native.layout(True)
+        return layout_json(details), details
     start = time.perf_counter()
     sing = ds.singularities()
     r = native.regions(ds.loop_session.native, native.design_loops(ds.native), [x["vertex"] for x in sing],
@@ -65,7 +68,7 @@ def _layout_of(ds):
             "vertices": [], "edges": [], "patches": [],
             "summary": {"patches": 0, "irregular_vertices": {}, "corner_deviation_deg": {"mean": 0.0, "max": 0.0},
                         "euler": {}},
-            "timings_ms": {"regions": ms, "layout": 0.0}}
+            "timings_ms": {"regions": ms, "layout": 0.0}}, None
 
 
 def make_report(ds, layout, timings_ms):
@@ -151,7 +154,7 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
         log, stopped, work, cancelled = result.log, result.stopped, result.work, result.cancelled_queries
     lap("weave")
     say("primal layout")
-    layout = _layout_of(ds)
+    layout, details = _layout_of(ds)
     lap("layout")
     report = make_report(ds, layout, {})
     paths = {}
@@ -166,7 +169,7 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
         if preview:
             say("rendering preview.png")
             from .preview import render_design
-            render_design(paths["preview"], ds, layout)
+            render_design(paths["preview"], ds, layout, regions=details)
             lap("preview")
         else:
             del paths["preview"]
@@ -182,7 +185,7 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
                     say("rendering deviation.png")
                     from .preview import render_deviation
                     paths["deviation"] = os.path.join(out, "deviation.png")
-                    render_deviation(paths["deviation"], ds, report["fit"])
+                    render_deviation(paths["deviation"], ds, report["fit"], details=details)
             except native.InputError as exc:
                 # The design and its layout are still worth having: report.json says why
                 # there is no STEP, and the error names the folder.

@@ -2,7 +2,7 @@
 
     render_preview(path, vertices, triangles, normals, stripes=[...], tints=..., lines=[...])
     render_design(path, ds, layout=None)     # what `stripweave weave` writes
-    render_deviation(path, ds, fit)          # deviation.png of `weave --step`: patches by fit
+    render_deviation(path, ds, fit, details=None)  # deviation.png of `weave --step`: patches by fit
 
 People look at layouts; they do not read them. The picture shows the part shaded (Lambert,
 two-sided), each strip as its stripe pattern (paper §4.2: quasi-parallel isocurves of the
@@ -311,13 +311,13 @@ def patch_deviation_tints(details, fit, triangle_count):
     return tints
 
 
-def render_deviation(path, ds, fit, **kw):
+def render_deviation(path, ds, fit, details=None, **kw):
     """deviation.png: the layout's patches coloured by how far their fit is from the source
     (patch_deviation_tints: green well within the tolerance, yellow at it, red at twice it
     and beyond; violet: not fitted), with the patch edges, seen as preview.png sees the
-    part."""
+    part. `details`: the design's layout(details=True), if the caller has it."""
     s = ds.surface
-    details = ds.native.layout(True)
+    details = details if details is not None else ds.native.layout(True)
     tints = patch_deviation_tints(details, fit, len(s.triangles))
     edges = [e["points"] for e in details.get("edges", [])]
     return render_preview(path, s.vertices, s.triangles, s.normals, (), tints, lines=edges, **kw)

@@ -354,12 +354,12 @@ def _deviation(layout):
     look like an improvement)."""
     if not layout["valid"] or not layout["patches"]:
         return 180.0
-    total = corners = 0
-    for p in layout["patches"]:
-        angles = p["corner_angles_deg"] if p.get("quad", True) else ()
-        total += sum(abs(x - 90.0) for x in angles) + 90.0 * (4 - len(angles))
-        corners += 4
-    return total / corners
+    return sum(sum(_corner_deviations(p)) for p in layout["patches"]) / (4 * len(layout["patches"]))
+
+
+def _corner_deviations(p):
+    """A patch's four corner deviations from 90 degrees; 90 each where it is no quad."""
+    return [abs(x - 90.0) for x in p["corner_angles_deg"]] if p.get("quad", True) else [90.0] * 4
 
 
 def _creased(layout):
@@ -391,8 +391,7 @@ def _split_need(p):
     bunched loops there, leaving the large patches elsewhere as they were; area times
     deviation spreads the loops over the surface (measured on the rocker-arm, otherwise the
     same refinement: 18.5 against 25.4 degrees mean)."""
-    dev = [abs(x - 90) for x in p["corner_angles_deg"]] if p.get("quad", True) else []
-    return p["area"] * (sum(dev) / len(dev) if dev else 90.0)
+    return p["area"] * (sum(_corner_deviations(p)) / 4)
 
 
 def _splits(layout, patch):

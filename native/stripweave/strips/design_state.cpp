@@ -71,12 +71,7 @@ void DesignState::set_strips(const std::vector<StripSpec>& specs) {
   for (size_t i = 0; same && i < specs.size(); ++i) same = specs[i] == strips_[i].spec;
   if (!same) {
     // The state before this edit, for going back to it (copied: the edit keeps its prefix).
-    previous_.strips = strips_;
-    previous_.field = field_;
-    previous_.param = param_;
-    previous_.timings = timings_;
-    previous_.mask = mask_;
-    previous_.valid = true;
+    previous_ = Derived{strips_, field_, param_, timings_, mask_, true};
   }
   // Keep the unchanged prefix: its loops and masks do not depend on later strips.
   size_t keep = 0;

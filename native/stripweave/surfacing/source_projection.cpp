@@ -11,11 +11,7 @@ namespace stripweave {
 
 SourceProjector::SourceProjector(const Surface& surface, double edge_snap) : edge_snap_(edge_snap) {
   if (surface.brep) {
-    brep_ = surface.brep.get();
-    face_edges_.resize(brep_->num_faces());
-    face_edges_known_.assign(brep_->num_faces(), false);
-    face_box_.resize(brep_->num_faces());
-    face_box_known_.assign(brep_->num_faces(), false);
+    use_brep(surface.brep.get());
   } else if (surface.source_mesh && surface.source_mesh->num_triangles() > 0) {
     locator_ = std::make_unique<SurfaceLocator>(*surface.source_mesh);
   }
@@ -27,13 +23,17 @@ std::unique_ptr<SourceProjector> SourceProjector::thread_copy() const {
   if (!brep_) return nullptr;
   std::unique_ptr<SourceProjector> copy(new SourceProjector());
   copy->own_brep_ = brep_->thread_copy();
-  copy->brep_ = copy->own_brep_.get();
+  copy->use_brep(copy->own_brep_.get());
   copy->edge_snap_ = edge_snap_;
-  copy->face_edges_.resize(brep_->num_faces());
-  copy->face_edges_known_.assign(brep_->num_faces(), false);
-  copy->face_box_.resize(brep_->num_faces());
-  copy->face_box_known_.assign(brep_->num_faces(), false);
   return copy;
+}
+
+void SourceProjector::use_brep(const BrepSource* brep) {
+  brep_ = brep;
+  face_edges_.assign(brep->num_faces(), {});
+  face_edges_known_.assign(brep->num_faces(), false);
+  face_box_.assign(brep->num_faces(), BoundingBox());
+  face_box_known_.assign(brep->num_faces(), false);
 }
 
 void SourceProjector::forget_warm_starts() const {

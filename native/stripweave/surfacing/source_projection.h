@@ -59,6 +59,7 @@ class SourceProjector {
   double box_distance(Index face, const Vec3& p) const;
   Vec3 nearest_on_edges(const std::vector<Index>& faces, const Vec3& p, double* distance) const;
   SourceProjector() = default;
+  void use_brep(const BrepSource* brep);  // and size its per-face caches
   const BrepSource* brep_ = nullptr;
   std::shared_ptr<const BrepSource> own_brep_;  // a thread copy's
   std::unique_ptr<SurfaceLocator> locator_;
