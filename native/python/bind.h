@@ -19,4 +19,5 @@ void bind_design(pybind11::module_& m);  // designs, strips, compatibility (§4.
 void bind_regions(pybind11::module_& m);  // loop arrangement, regions, assessment (§4.2)
 void bind_surfacing(pybind11::module_& m);  // patch network -> B-spline patches, shell, STEP
 void bind_weave(pybind11::module_& m);    // automatic weaving: assessment and seed points (issue 6)
+void bind_render(pybind11::module_& m);   // the preview pictures' rasterizer
 }
