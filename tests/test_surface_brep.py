@@ -1,5 +1,6 @@
 """Surface model from B-reps: topology, feature curves, exact differential geometry."""
 import math
+import os
 
 import numpy as np
 import pytest
@@ -201,3 +202,20 @@ def test_feature_angle_threshold():
     shell = Part.Shell([a, b])
     assert sw.from_shape(shell, target_triangles=2000).report()["feature_curves"] == 0
     assert sw.from_shape(shell, target_triangles=2000, feature_angle_deg=15).report()["feature_curves"] == 1
+
+
+def test_brep_evaluation_same_on_one_and_two_cores():
+    """The solver mesh's vertices are put back on the B-rep and its curvature evaluated on the
+    cores the process may use (each thread with its own copy of the B-rep's caches): the
+    surface must not depend on how many that is. A lofted freeform face and a torus, loaded
+    pinned to one core and then on all the process may use, give identical arrays."""
+    cores = os.sched_getaffinity(0)
+    for shape in (lofted_face(), torus()):
+        try:
+            os.sched_setaffinity(0, {min(cores)})
+            one = sw.from_shape(shape, target_triangles=6000)
+        finally:
+            os.sched_setaffinity(0, cores)
+        two = sw.from_shape(shape, target_triangles=6000)
+        for key in ("vertices", "normals", "triangles", "k_min", "k_max", "d_min", "d_max"):
+            assert np.array_equal(np.asarray(getattr(one, key)), np.asarray(getattr(two, key))), key
