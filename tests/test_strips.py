@@ -115,6 +115,24 @@ def test_a_direction_along_an_existing_strip_is_a_clear_error(torus_meridian):
         torus_meridian.loops([(-13, 0, 0, 0, 0, 1)])
 
 
+def test_a_loop_search_past_the_query_cap_leaves_the_design_as_it_was(torus_surface):
+    """Automatic weaving caps every loop search (WeaveOptions.query_polls), deriving a strip's
+    loop included: a search stopped there raises Cancelled, and the design keeps its strips,
+    derived, as before the addition."""
+    from stripweave._native import native
+    ds = DesignSession(torus_surface, Design([MERIDIAN]))
+    session = ds.loop_session.native
+    session.max_query_polls = 1       # 4096 settled g' nodes
+    try:
+        with pytest.raises(native.Cancelled):
+            ds.add_strip([(0, 10, 3)])    # the top of the tube, any direction: a long search
+        assert session.query_limited
+    finally:
+        session.max_query_polls = 0
+    assert len(ds.design.strips) == 1 and ds.native.strip_count == 1
+    assert ds.strip(0)["closed"]
+
+
 # --- the cube and the sphere ---------------------------------------------------------
 
 def test_cube_three_belts_singular_at_the_eight_corners(cube_design):

@@ -42,11 +42,12 @@ class DesignSession:
                 strip.closed = bool(self.native.strip(i)["closed"])
 
     def add_strip(self, anchors):
-        """Append a strip; on failure the design is left as it was."""
+        """Append a strip; on failure (an InputError, or a loop search cancelled or past
+        the session's query cap) the design is left as it was."""
         self.design.add_strip(anchors)
         try:
             self.update()
-        except native.InputError:
+        except (native.InputError, native.Cancelled):
             self.design.remove_strip(len(self.design.strips) - 1)
             self.update()
             raise

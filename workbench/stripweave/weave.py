@@ -339,6 +339,13 @@ class _Weaver:
         except native.InputError as e:
             _say(self.options, f"  rejected by the design: {e}")
             return None
+        except native.Cancelled:
+            if not self.session.query_limited:
+                raise
+            # Deriving it searched past the query cap (from a node of the loop, not from the
+            # seed the proposal came from): as a proposal that was never found.
+            _say(self.options, "  rejected: deriving its loop ran past the query cap")
+            return None
         return index
 
 
