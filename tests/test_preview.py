@@ -1,5 +1,6 @@
-"""The preview pictures' native rasterizer (render/rasterize.h): which triangle each pixel
-shows, where in it, and how deep, for scenes whose answer is known in closed form."""
+"""The preview pictures' native rasterizer and shader (render/rasterize.h, render/shade.h):
+which triangle each pixel shows, where in it and how deep, and its colour (Lambert, tints,
+stripe lines), for scenes whose answer is known in closed form."""
 import numpy as np
 import pytest
 
@@ -45,3 +46,56 @@ def test_bad_input_is_named():
         native.rasterize(np.zeros((3, 3)), np.array([[0, 1, 7]]), 4, 4)
     with pytest.raises(native.InputError, match=r"\(n, 3\)"):
         native.rasterize(np.zeros((3, 2)), np.array([[0, 1, 2]]), 4, 4)
+
+
+def _flat_square(n=40):
+    """A square in the plane z = 0 filling an n x n image, normals +z: screen = model."""
+    screen = np.array([[0, 0, 0], [n, 0, 0], [n, n, 0], [0, n, 0]], float)
+    tris = np.array([[0, 1, 2], [0, 2, 3]])
+    normals = np.tile([0.0, 0.0, 1.0], (4, 1))
+    return screen, tris, normals
+
+
+def test_shading_is_lambert_on_the_base_and_tint():
+    screen, tris, normals = _flat_square()
+    tri, bary, _ = native.rasterize(screen, tris, 40, 40)
+    base, background = [0.8, 0.82, 0.85], [1.0, 1.0, 1.0]
+    light = np.array([0.0, 0.6, 0.8])             # |n . light| = 0.8
+    rgb = native.shade(tri, bary, screen, normals, tris, light.tolist(), base, background)
+    assert np.allclose(rgb, np.array(base) * (0.35 + 0.65 * 0.8))
+    # A tint on the second triangle only: 45:55 with the base there.
+    tints = np.array([[np.nan] * 3, [1.0, 0.0, 0.0]])
+    rgb = native.shade(tri, bary, screen, normals, tris, light.tolist(), base, background, tints)
+    second = tri == 1
+    assert np.allclose(rgb[second], (0.45 * np.array(base) + 0.55 * np.array([1.0, 0, 0])) * 0.87)
+    assert np.allclose(rgb[~second], np.array(base) * 0.87)
+    # Pixels no triangle covers show the background.
+    tri[:5] = -1
+    assert np.allclose(native.shade(tri, bary, screen, normals, tris, light.tolist(), base, background)[:5], 1.0)
+
+
+def test_stripes_are_lines_at_multiples_of_the_period():
+    # A strip whose coordinate across is x: stripe lines at x = 0, 10, 20, ... (period 10),
+    # each in the strip's hue at 0.6 where it is exactly on the line, none a quarter period off.
+    screen, tris, normals = _flat_square()
+    tri, bary, _ = native.rasterize(screen, tris, 40, 40)
+    coords = np.stack([screen[tris][:, :, 1], screen[tris][:, :, 0]], 2)   # (along, across) = (y, x)
+    base, hue = [0.8, 0.8, 0.8], [0.0, 0.0, 1.0]
+    rgb = native.shade(tri, bary, screen, normals, tris, [0.0, 0.0, 1.0], base, [1.0, 1.0, 1.0],
+                       stripes=[coords], hues=[hue], stripe_period=10.0).reshape(40, 40, 3)
+    x = np.arange(40) + 0.5                        # pixel centres
+    phase = np.abs((x / 10 + 0.5) % 1.0 - 0.5)
+    line = np.clip(1.6 - 8 * phase, 0, 1) * 0.6
+    expect = np.array(base) * (1 - line[:, None]) + np.array(hue) * line[:, None]
+    assert np.allclose(rgb[17], expect)            # every row alike
+    assert line[np.argmin(np.abs(x - 10.5))] > 0.3 and line[np.argmin(np.abs(x - 15.5))] == 0
+
+
+def test_shading_bad_input_is_named():
+    screen, tris, normals = _flat_square()
+    tri, bary, _ = native.rasterize(screen, tris, 8, 8)
+    with pytest.raises(native.InputError, match="one normal per vertex"):
+        native.shade(tri, bary, screen, normals[:3], tris, [0, 0, 1.0], [1, 1, 1.0], [1, 1, 1.0])
+    with pytest.raises(native.InputError, match="one hue per strip"):
+        native.shade(tri, bary, screen, normals, tris, [0, 0, 1.0], [1, 1, 1.0], [1, 1, 1.0],
+                     stripes=[np.zeros((2, 3, 2))])

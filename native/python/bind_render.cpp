@@ -6,12 +6,20 @@
 //   -1 for none), its barycentrics (width * height, 3), the depth (+inf for
 //   none). Errors: InputError for arrays of the wrong shape or a triangle
 //   naming a vertex that does not exist.
+// shade(triangle, bary, vertices, normals, triangles, light, base, background,
+//       tints=None, stripes=[], hues=[], stripe_period=1) -> (pixels, 3) RGB
+//   The pixels of rasterize's output shaded (render/shade.h): tints (m, 3)
+//   per triangle with NaN rows for none; stripes, per strip, its stripe
+//   coordinates per triangle corner (m, 3, 2: along, across; NaN outside),
+//   with hues, one RGB per strip.
 #include "bind.h"
 
 #include "stripweave/core/error.h"
 #include "stripweave/render/rasterize.h"
+#include "stripweave/render/shade.h"
 
 #include <pybind11/numpy.h>
+#include <pybind11/stl.h>
 
 #include <string>
 
@@ -19,6 +27,25 @@ namespace py = pybind11;
 using namespace stripweave;
 
 namespace stripweave_python {
+
+namespace {
+
+using Floats = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+std::vector<Vec3> rows3(const Floats& a, const char* what) {
+  if (a.ndim() != 2 || a.shape(1) != 3) throw InputError(std::string("shade: ") + what + " must be an (n, 3) array");
+  const auto r = a.unchecked<2>();
+  std::vector<Vec3> out(static_cast<size_t>(r.shape(0)));
+  for (py::ssize_t i = 0; i < r.shape(0); ++i) out[i] = Vec3(r(i, 0), r(i, 1), r(i, 2));
+  return out;
+}
+
+Vec3 vec3(const std::vector<double>& v, const char* what) {
+  if (v.size() != 3) throw InputError(std::string("shade: ") + what + " must have three components");
+  return Vec3(v[0], v[1], v[2]);
+}
+
+}  // namespace
 
 void bind_render(py::module_& m) {
   m.def(
@@ -64,6 +91,78 @@ void bind_render(py::module_& m) {
       },
       py::arg("screen"), py::arg("triangles"), py::arg("width"), py::arg("height"),
       "Per pixel the nearest triangle (-1 for none), its barycentrics and the depth (render/rasterize.h)");
+
+  m.def(
+      "shade",
+      [](py::array_t<std::int64_t, py::array::c_style | py::array::forcecast> triangle, const Floats& bary,
+         const Floats& vertices, const Floats& normals,
+         py::array_t<std::int64_t, py::array::c_style | py::array::forcecast> triangles, const std::vector<double>& light,
+         const std::vector<double>& base, const std::vector<double>& background, py::object tints,
+         const std::vector<Floats>& stripes, const std::vector<std::vector<double>>& hues, double stripe_period) {
+        ShadeLook look;
+        look.light = vec3(light, "the light");
+        look.base = vec3(base, "the base colour");
+        look.background = vec3(background, "the background");
+        if (!(stripe_period > 0)) throw InputError("shade: the stripe period must be positive");
+        look.stripe_period = stripe_period;
+        const std::vector<Vec3> points = rows3(vertices, "vertices");
+        const std::vector<Vec3> vertex_normals = rows3(normals, "normals");
+        if (vertex_normals.size() != points.size()) throw InputError("shade: one normal per vertex is needed");
+        if (triangles.ndim() != 2 || triangles.shape(1) != 3) throw InputError("shade: triangles must be an (m, 3) array");
+        const auto tt = triangles.unchecked<2>();
+        const py::ssize_t nt = tt.shape(0);
+        std::vector<Tri> tris(static_cast<size_t>(nt));
+        for (py::ssize_t i = 0; i < nt; ++i)
+          for (int k = 0; k < 3; ++k) {
+            if (tt(i, k) < 0 || tt(i, k) >= static_cast<py::ssize_t>(points.size()))
+              throw InputError("shade: triangle " + std::to_string(i) + " names vertex " + std::to_string(tt(i, k)) +
+                               ", which does not exist");
+            tris[i][k] = static_cast<Index>(tt(i, k));
+          }
+        if (!tints.is_none()) {
+          look.tint = rows3(tints.cast<Floats>(), "tints");
+          if (static_cast<py::ssize_t>(look.tint.size()) != nt) throw InputError("shade: one tint per triangle is needed");
+        }
+        if (hues.size() != stripes.size()) throw InputError("shade: one hue per strip is needed");
+        for (size_t i = 0; i < stripes.size(); ++i) {
+          const Floats& c = stripes[i];
+          if (c.ndim() != 3 || c.shape(0) != nt || c.shape(1) != 3 || c.shape(2) != 2)
+            throw InputError("shade: strip " + std::to_string(i) + "'s coordinates must be a (triangles, 3, 2) array");
+          const auto r = c.unchecked<3>();
+          ShadeStrip strip;
+          strip.hue = vec3(hues[i], "a hue");
+          strip.across.resize(static_cast<size_t>(nt));
+          for (py::ssize_t t = 0; t < nt; ++t) strip.across[t] = {r(t, 0, 1), r(t, 1, 1), r(t, 2, 1)};
+          look.strips.push_back(std::move(strip));
+        }
+        if (triangle.ndim() != 1 || bary.ndim() != 2 || bary.shape(1) != 3 || bary.shape(0) != triangle.shape(0))
+          throw InputError("shade: triangle (pixels) and bary (pixels, 3) must come from one raster");
+        Raster raster;
+        const py::ssize_t n = triangle.shape(0);
+        const auto ti = triangle.unchecked<1>();
+        const auto bi = bary.unchecked<2>();
+        raster.triangle.resize(static_cast<size_t>(n));
+        raster.bary.resize(static_cast<size_t>(n));
+        for (py::ssize_t i = 0; i < n; ++i) {
+          if (ti(i) >= nt) throw InputError("shade: a pixel names triangle " + std::to_string(ti(i)) + ", which does not exist");
+          raster.triangle[i] = static_cast<Index>(ti(i));
+          raster.bary[i] = {bi(i, 0), bi(i, 1), bi(i, 2)};
+        }
+        std::vector<Vec3> rgb;
+        {
+          py::gil_scoped_release release;
+          rgb = shade(raster, points, tris, vertex_normals, look);
+        }
+        py::array_t<double> out({n, static_cast<py::ssize_t>(3)});
+        auto o = out.mutable_unchecked<2>();
+        for (py::ssize_t i = 0; i < n; ++i)
+          for (int k = 0; k < 3; ++k) o(i, k) = rgb[i][k];
+        return out;
+      },
+      py::arg("triangle"), py::arg("bary"), py::arg("vertices"), py::arg("normals"), py::arg("triangles"),
+      py::arg("light"), py::arg("base"), py::arg("background"), py::arg("tints") = py::none(),
+      py::arg("stripes") = py::list(), py::arg("hues") = py::list(),
+      py::arg("stripe_period") = 1.0, "RGB per pixel of a raster (render/shade.h)");
 }
 
 }  // namespace stripweave_python

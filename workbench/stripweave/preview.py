@@ -13,7 +13,8 @@ This is a small software renderer on purpose: no display, no FreeCAD GUI, no dep
 beyond numpy and zlib. Triangles are rasterized in an orthographic view by the native
 library (render/rasterize.h: per pixel the nearest triangle and its barycentrics; the numpy
 rasterizer before it took 1.5 to 2.7 s of a weave run, the native one 0.15 s, the same
-pixels), and pixels are shaded from their triangle and barycentrics (numpy). Lines
+pixels), and pixels are shaded from their triangle and barycentrics (render/shade.h: the
+numpy shader's arithmetic, the same colours, 0.4 s instead of 1.3 to 3 s). Lines
 are sampled at half-pixel steps and kept where they are not behind the surface (with a small
 depth offset so lines on the surface win). It is the display of data the native side has
 computed, not geometry of its own: the view is chosen among the eight isometric directions (and the
@@ -115,40 +116,13 @@ def draw_lines(image, depth, project, polylines, colour, width_px=1.5, offset=0.
 # --- shading ---------------------------------------------------------------------
 
 def shade(tri_img, bary, vertices, triangles, normals, light, stripes, tints, stripe_period):
-    """RGB per pixel (float 0..1): Lambert on the base colour, region tint, stripe lines."""
-    hit = tri_img >= 0
-    t = tri_img[hit]
-    b = bary[hit]
-    tris = np.asarray(triangles)[t]
-    n = np.asarray(normals, float)
-    nn = (n[tris] * b[:, :, None]).sum(1)
-    nn /= np.maximum(np.linalg.norm(nn, axis=1, keepdims=True), 1e-12)
-    # At sharp features the vertex normals average across the crease and blur it: there
-    # the triangle's own normal shows the edge as a CAD user expects.
-    v = np.asarray(vertices, float)
-    tv = v[tris]
-    fn = np.cross(tv[:, 1] - tv[:, 0], tv[:, 2] - tv[:, 0])
-    fn /= np.maximum(np.linalg.norm(fn, axis=1, keepdims=True), 1e-30)
-    crease = np.abs((fn * nn).sum(1)) < 0.9
-    nn[crease] = fn[crease]
-    lambert = 0.35 + 0.65 * np.abs(nn @ light)   # two-sided: open surfaces show their back
-    base = np.tile(BASE, (len(t), 1))
-    if tints is not None:
-        tint = np.asarray(tints, float)[t]             # per triangle RGB, NaN for none
-        has = ~np.isnan(tint[:, 0])
-        base[has] = 0.45 * base[has] + 0.55 * tint[has]
-    rgb = base * lambert[:, None]
-    for i, corners in enumerate(stripes):
-        across = (corners[t, :, 1] * b).sum(1)         # per triangle corner (along, across)
-        inside = ~np.isnan(across)
-        phase = np.abs(((across[inside] / stripe_period) + 0.5) % 1.0 - 0.5)  # 0 on a stripe line
-        line = np.clip(1.6 - phase * 8.0, 0, 1) * 0.6
-        hue = HUES[i % len(HUES)]
-        idx = np.nonzero(inside)[0]
-        rgb[idx] = rgb[idx] * (1 - line[:, None]) + hue * lambert[idx, None] * line[:, None]
-    out = np.tile(BACKGROUND / 255.0, (len(tri_img), 1))
-    out[hit] = rgb
-    return out
+    """RGB per pixel (float 0..1): Lambert on the base colour, region tint, stripe lines
+    (native: render/shade.h; each strip in its hue)."""
+    stripes = [np.asarray(c, float) for c in stripes]
+    return native.shade(tri_img, bary, np.asarray(vertices, float), np.asarray(normals, float),
+                        np.asarray(triangles, np.int64), np.asarray(light, float).tolist(), BASE.tolist(),
+                        (BACKGROUND / 255.0).tolist(), None if tints is None else np.asarray(tints, float), stripes,
+                        [HUES[i % len(HUES)].tolist() for i in range(len(stripes))], float(stripe_period))
 
 
 def write_png(path, image):
