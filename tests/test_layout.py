@@ -117,6 +117,27 @@ def test_torus_meridian_and_equator_give_one_patch_at_one_vertex():
         assert e["length"] > 2 * math.pi * 3 * 0.95
 
 
+def test_layout_with_an_extra_loop_is_the_layout_of_all_loops():
+    """Automatic weaving predicts a candidate strip by DesignState.layout_with: the design's
+    loops (as derived) and the candidate under the design's singularities, without a solve.
+    On the torus, the meridian's design with the outer equator as the extra loop must give
+    the one-patch layout, the same as the layout of both loops from scratch."""
+    from stripweave._native import native
+    ds = DesignSession(sw.from_shape(torus(10, 3), target_triangles=16000), Design([MERIDIAN]))
+    session = ds.loop_session.native
+    ds.native.apply_mask()                       # as weaving asks: compatible with the meridian
+    (equator,) = session.loops([list(OUTER_EQUATOR[0])], 1, True)
+    session.clear_disabled()
+    predicted = ds.native.layout_with([equator])
+    sing = ds.singularities()
+    direct = native.layout(session, list(native.design_loops(ds.native)) + [equator],
+                           [x["vertex"] for x in sing], [round(4 * x["index"]) for x in sing], False)
+    assert predicted["valid"] and len(predicted["patches"]) == 1
+    assert predicted["patches"] == direct["patches"] and predicted["summary"] == direct["summary"]
+    assert predicted["patches"][0]["area"] == pytest.approx(4 * math.pi ** 2 * 10 * 3, rel=0.01)
+    assert not ds.native.layout()["valid"]       # the design itself is unchanged: one loop
+
+
 def test_a_regular_vertex_sits_midway_between_its_sides():
     """Meridians 60 degrees apart and the outer and inner equators cut a torus into four
     valence-4 regions, one a 300-degree band. Its vertex belongs where the middles of its

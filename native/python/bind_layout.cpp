@@ -29,6 +29,10 @@
 //   The same for loops of a LoopSession with given singularities (as
 //   regions() takes them): a layout of loops that no design's compatibility
 //   constrained, e.g. parallel loops of a denser layout.
+// DesignState.layout_with(extra_loops, details=False) -> dict
+//   layout() of the design with these loops added, under the design's
+//   current singularities (no field or parameterization solve): what
+//   automatic weaving predicts a candidate strip by.
 // DesignState.patch_network() -> the layout as surfacing takes it
 //   (surfacing/patch_network.h): {"vertices", "edges": [{"points",
 //   "vertices", "sharp", "boundary"}], "patches": [{"edges", "reversed",
@@ -89,9 +93,12 @@ DesignLayout layout_of(const Surface& s, std::vector<LoopPath>& paths, const std
   return out;
 }
 
-DesignLayout design_layout(const DesignState& d, bool primal) {
+// The design's loops (their embedded paths, kept with the strips) and
+// `extra` loops, under the design's singularities.
+DesignLayout design_layout(const DesignState& d, bool primal, const std::vector<Loop>& extra = {}) {
   std::vector<LoopPath> paths;
   for (const DesignStrip& st : d.strips()) paths.push_back(st.path);
+  for (const Loop& loop : extra) paths.push_back(loop_path(d.session(), loop));
   return layout_of(d.surface(), paths, d.field().singularities, primal);
 }
 
@@ -234,6 +241,20 @@ void bind_layout(py::module_& m, py::class_<DesignState, std::shared_ptr<DesignS
       py::arg("session"), py::arg("loops"), py::arg("singular_vertices") = std::vector<Index>(),
       py::arg("quarter_indices") = std::vector<int>(), py::arg("details") = false,
       "The regions and primal quad layout of loops (paper §7; model units)");
+  state.def(
+      "layout_with",
+      [](const DesignState& d, const std::vector<Loop>& extra, bool details) {
+        DesignLayout dl;
+        {
+          py::gil_scoped_release release;
+          dl = design_layout(d, true, extra);
+        }
+        return layout_dict(d.surface(), d.field().singularities, dl, details);
+      },
+      py::arg("extra_loops"), py::arg("details") = false,
+      "The layout the design would have with these loops added, under its current singularities (no solve); "
+      "the same as layout(session, design loops + extra_loops, the design's singularities), without embedding "
+      "the design's loops again");
   state.def(
       "regions",
       [](const DesignState& d, bool details) {

@@ -260,11 +260,8 @@ class _Weaver:
     def predict(self, loop):
         """The layout and assessment the design would have with the loop added, under the
         design's current singularities (no field or parameterization solve)."""
-        sing = self.ds.native.singularities()
         self.work += WORK_ASSESS + WORK_LAYOUT
-        lay = native.layout(self.session, list(native.design_loops(self.ds.native)) + [loop],
-                            [s["vertex"] for s in sing], [round(4 * s["index"]) for s in sing], False)
-        return lay, native.weave_assessment(self.ds.native, [loop], 0)
+        return self.ds.native.layout_with([loop]), native.weave_assessment(self.ds.native, [loop], 0)
 
     def layout(self):
         self.work += WORK_LAYOUT

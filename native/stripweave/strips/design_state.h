@@ -76,6 +76,7 @@ class DesignState {
   void apply_mask();
 
   LoopSession& session() { return *session_; }
+  const LoopSession& session() const { return *session_; }
   const Surface& surface() const { return session_->surface(); }
 
  private:
