@@ -130,3 +130,11 @@ def winding_numbers(points, R=10.0):
     theta = np.unwrap(np.arctan2(p[:, 1], p[:, 0]))
     phi = np.unwrap(np.arctan2(p[:, 2], np.hypot(p[:, 0], p[:, 1]) - R))
     return round((theta[-1] - theta[0]) / (2 * np.pi)), round((phi[-1] - phi[0]) / (2 * np.pi))
+
+
+def key(R=10.0, r=2.0, shaft=30.0, shaft_r=1.5):
+    """A key: a ring (torus in the xy plane) with a round shaft along +x fused to it, one solid
+    of genus 1 whose handle is only the ring."""
+    ring = Part.makeTorus(R, r)
+    rod = Part.makeCylinder(shaft_r, shaft, Vector(R, 0, 0), Vector(1, 0, 0))
+    return ring.fuse(rod).removeSplitter()

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 import stripweave as sw
-from models import box, filleted_box, torus
+from models import box, filleted_box, key, torus
 from stripweave._native import native
 from stripweave.design import Design
 from stripweave.strips import DesignSession
@@ -295,3 +295,32 @@ def test_refinement_lays_no_patch_over_a_crease(tmp_path):
     with open(tmp_path / "layout.json", encoding="utf-8") as f:
         layout = json.load(f)
     assert not [i for i, p in enumerate(layout["patches"]) if p["creased"]]
+
+
+def test_an_area_no_single_strip_covers_gets_a_pair():
+    """A key whose two strips lie on its ring: a loop around the shaft alone cuts off the
+    shaft's end, a cap no loop crosses (red), so no single strip covers the shaft there
+    (the shared trj5 key stayed one patch over the whole part). _coverage_pair adds that
+    loop and then the red phase's loop that crosses the cap, and keeps both: valid, more
+    crossings, the user's strips first and unchanged."""
+    import time
+    from stripweave.weave import _coverage_pair, _Weaver, score
+    ds = DesignSession(sw.from_shape(key(), target_triangles=8000),
+                       Design([[(-12, 0, 0, 0, 0, 1)], [(0, 10, 2, 1, 0, 0)]]))
+    given = [s.anchors[0].to_list() for s in ds.design.strips]
+    w = _Weaver(ds, WeaveOptions())
+    a = w.assess()
+    assert a["colours"]["red"] == 0 and a["crossings"] == 1
+    ring = w.proposals([25, 0, 1.5, 0, 1, 0], 1)[0]     # around the shaft, halfway along it
+    alone = native.weave_assessment(ds.native, [ring], 0)
+    assert alone["colours"]["red"] == 1
+    start = time.perf_counter()
+    pair = _coverage_pair(w, ds, w.options, a, (score(alone), ring.cost, ring, [25, 0, 1.5], alone),
+                          lambda: time.perf_counter() - start)
+    assert pair is not None
+    first, second, after = pair
+    assert (first["strip"], second["strip"]) == (2, 3) and second["colour"] == "red"
+    assert after["colours"]["red"] == 0 and after["crossings"] > a["crossings"]
+    assert after["uncovered"]["area"] < a["uncovered"]["area"]
+    assert [s.anchors[0].to_list() for s in ds.design.strips[:2]] == given
+    assert ds.native.strip_count == 4
