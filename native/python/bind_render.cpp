@@ -31,12 +31,29 @@ namespace stripweave_python {
 namespace {
 
 using Floats = py::array_t<double, py::array::c_style | py::array::forcecast>;
+using Ints = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>;
 
-std::vector<Vec3> rows3(const Floats& a, const char* what) {
-  if (a.ndim() != 2 || a.shape(1) != 3) throw InputError(std::string("shade: ") + what + " must be an (n, 3) array");
+// An (n, 3) array as points; `what` names the function and the argument.
+std::vector<Vec3> rows3(const Floats& a, const std::string& what) {
+  if (a.ndim() != 2 || a.shape(1) != 3) throw InputError(what + " must be an (n, 3) array");
   const auto r = a.unchecked<2>();
   std::vector<Vec3> out(static_cast<size_t>(r.shape(0)));
   for (py::ssize_t i = 0; i < r.shape(0); ++i) out[i] = Vec3(r(i, 0), r(i, 1), r(i, 2));
+  return out;
+}
+
+// An (m, 3) array of vertex indices as triangles, each naming one of `vertices`.
+std::vector<Tri> triangles_from(const Ints& a, size_t vertices, const std::string& fn) {
+  if (a.ndim() != 2 || a.shape(1) != 3) throw InputError(fn + ": triangles must be an (m, 3) array");
+  const auto t = a.unchecked<2>();
+  std::vector<Tri> out(static_cast<size_t>(t.shape(0)));
+  for (py::ssize_t i = 0; i < t.shape(0); ++i)
+    for (int k = 0; k < 3; ++k) {
+      if (t(i, k) < 0 || t(i, k) >= static_cast<py::ssize_t>(vertices))
+        throw InputError(fn + ": triangle " + std::to_string(i) + " names vertex " + std::to_string(t(i, k)) +
+                         ", which does not exist");
+      out[i][k] = static_cast<Index>(t(i, k));
+    }
   return out;
 }
 
@@ -50,26 +67,10 @@ Vec3 vec3(const std::vector<double>& v, const char* what) {
 void bind_render(py::module_& m) {
   m.def(
       "rasterize",
-      [](py::array_t<double, py::array::c_style | py::array::forcecast> screen,
-         py::array_t<std::int64_t, py::array::c_style | py::array::forcecast> triangles, int width, int height) {
-        if (screen.ndim() != 2 || screen.shape(1) != 3)
-          throw InputError("rasterize: screen positions must be an (n, 3) array");
-        if (triangles.ndim() != 2 || triangles.shape(1) != 3)
-          throw InputError("rasterize: triangles must be an (m, 3) array");
+      [](const Floats& screen, const Ints& triangles, int width, int height) {
+        const std::vector<Vec3> points = rows3(screen, "rasterize: screen positions");
+        const std::vector<Tri> tris = triangles_from(triangles, points.size(), "rasterize");
         if (width < 0 || height < 0) throw InputError("rasterize: the image size must not be negative");
-        const auto s = screen.unchecked<2>();
-        const auto t = triangles.unchecked<2>();
-        std::vector<Vec3> points(static_cast<size_t>(s.shape(0)));
-        for (py::ssize_t i = 0; i < s.shape(0); ++i) points[i] = Vec3(s(i, 0), s(i, 1), s(i, 2));
-        std::vector<Tri> tris(static_cast<size_t>(t.shape(0)));
-        for (py::ssize_t i = 0; i < t.shape(0); ++i) {
-          for (int k = 0; k < 3; ++k) {
-            if (t(i, k) < 0 || t(i, k) >= s.shape(0))
-              throw InputError("rasterize: triangle " + std::to_string(i) + " names vertex " +
-                               std::to_string(t(i, k)) + ", which does not exist");
-            tris[i][k] = static_cast<Index>(t(i, k));
-          }
-        }
         Raster r;
         {
           py::gil_scoped_release release;
@@ -94,9 +95,8 @@ void bind_render(py::module_& m) {
 
   m.def(
       "shade",
-      [](py::array_t<std::int64_t, py::array::c_style | py::array::forcecast> triangle, const Floats& bary,
-         const Floats& vertices, const Floats& normals,
-         py::array_t<std::int64_t, py::array::c_style | py::array::forcecast> triangles, const std::vector<double>& light,
+      [](const Ints& triangle, const Floats& bary, const Floats& vertices, const Floats& normals, const Ints& triangles,
+         const std::vector<double>& light,
          const std::vector<double>& base, const std::vector<double>& background, py::object tints,
          const std::vector<Floats>& stripes, const std::vector<std::vector<double>>& hues, double stripe_period) {
         ShadeLook look;
@@ -105,22 +105,13 @@ void bind_render(py::module_& m) {
         look.background = vec3(background, "the background");
         if (!(stripe_period > 0)) throw InputError("shade: the stripe period must be positive");
         look.stripe_period = stripe_period;
-        const std::vector<Vec3> points = rows3(vertices, "vertices");
-        const std::vector<Vec3> vertex_normals = rows3(normals, "normals");
+        const std::vector<Vec3> points = rows3(vertices, "shade: vertices");
+        const std::vector<Vec3> vertex_normals = rows3(normals, "shade: normals");
         if (vertex_normals.size() != points.size()) throw InputError("shade: one normal per vertex is needed");
-        if (triangles.ndim() != 2 || triangles.shape(1) != 3) throw InputError("shade: triangles must be an (m, 3) array");
-        const auto tt = triangles.unchecked<2>();
-        const py::ssize_t nt = tt.shape(0);
-        std::vector<Tri> tris(static_cast<size_t>(nt));
-        for (py::ssize_t i = 0; i < nt; ++i)
-          for (int k = 0; k < 3; ++k) {
-            if (tt(i, k) < 0 || tt(i, k) >= static_cast<py::ssize_t>(points.size()))
-              throw InputError("shade: triangle " + std::to_string(i) + " names vertex " + std::to_string(tt(i, k)) +
-                               ", which does not exist");
-            tris[i][k] = static_cast<Index>(tt(i, k));
-          }
+        const std::vector<Tri> tris = triangles_from(triangles, points.size(), "shade");
+        const py::ssize_t nt = static_cast<py::ssize_t>(tris.size());
         if (!tints.is_none()) {
-          look.tint = rows3(tints.cast<Floats>(), "tints");
+          look.tint = rows3(tints.cast<Floats>(), "shade: tints");
           if (static_cast<py::ssize_t>(look.tint.size()) != nt) throw InputError("shade: one tint per triangle is needed");
         }
         if (hues.size() != stripes.size()) throw InputError("shade: one hue per strip is needed");

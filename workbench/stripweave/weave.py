@@ -24,10 +24,10 @@ region it leaves, both or neither (_coverage_pair). Why orange and yellow only a
 2 or 6+: on scans every strip brings new field singularities, and chasing every coloured
 region left the rocker-arm with 4 valence-2 and 3 valence-6 vertices (27 degrees mean
 corner deviation; 19.9 without), while a cube needs its third belt to split the valence-2
-lenses around pairs of corners. When no seed helps any more (or colour_share of the budget is spent), a
-refine phase adds strips between the existing ones. Per step it takes the patches with the
-most area times corner deviation (_split_need), and for each the loops that would shorten
-its long sides: through the middle of a short side, along it (_splits: the middle of the
+lenses around pairs of corners. When no seed helps any more (or colour_share of the budget
+is spent), a refine phase adds strips between the existing ones. Per step it takes the
+patches with the most area times corner deviation (_split_need), and for each the loops
+that would shorten its long sides: through the middle of a short side, along it (_splits: the middle of the
 corridor between the loop that crosses the long sides and its next parallel), last the
 old anchor across the patch. Each candidate's layout is predicted under the design's
 current singularities (`predict`: loops, arrangement and primal layout, no field or
@@ -536,16 +536,26 @@ def _refine(w, ds, options, a, result, elapsed):
                 _creased(after_layout) > creased + 1e-9 * (1 + creased):
             w.remove(index)
             continue
-        ds.design.strips[index].extra["added_by"] = {"reason": "corner deviation", "region": -1,
-                                                     "colour": "none", "seed": [float(x) for x in seed[:3]]}
-        result.log.append({"strip": index, "reason": "corner deviation", "region": -1, "colour": "none",
-                           "seed": [float(x) for x in seed[:3]], "anchor": ds.design.strips[index].anchors[0].to_list(),
-                           "cost": loop.cost, "deviation_before": deviation,
-                           "deviation_after": _deviation(after_layout), "time_s": round(elapsed(), 3)})
+        _record(ds, result, _entry(ds, index, "corner deviation", -1, "none", seed, loop.cost, elapsed,
+                                   deviation_before=deviation, deviation_after=_deviation(after_layout)))
         a, layout = after, after_layout
     else:
         result.stopped = "max strips" if len(ds.design.strips) >= options.max_strips else w.why_out(elapsed)
     return a
+
+
+def _entry(ds, index, reason, region, colour, seed, cost, elapsed, **figures):
+    """The log entry of strip `index` just added: why (reason, region, colour, seed point),
+    its anchor and loop cost, the figures it changed, when."""
+    return {"strip": index, "reason": reason, "region": region, "colour": colour,
+            "seed": [float(x) for x in seed[:3]], "anchor": list(ds.design.strips[index].anchors[0].to_list()),
+            "cost": cost, **figures, "time_s": round(elapsed(), 3)}
+
+
+def _record(ds, result, entry):
+    """Log an added strip, and keep why it was added in the design (design.json's added_by)."""
+    ds.design.strips[entry["strip"]].extra["added_by"] = {k: entry[k] for k in ("reason", "region", "colour", "seed")}
+    result.log.append(entry)
 
 
 def _coverage_pair(w, ds, options, a, candidate, elapsed):
@@ -576,15 +586,10 @@ def _coverage_pair(w, ds, options, a, candidate, elapsed):
             if after["colours"]["red"] == 0 and score(after) <= current and after["crossings"] > a["crossings"] \
                     and after["uncovered"]["area"] < a["uncovered"]["area"]:
                 _say(options, f"  covered by a pair: strips {first + 1} and {second + 1}")
-
-                def entry(index, reason_, region_, colour_, seed, cost_):
-                    return {"strip": index, "reason": reason_, "region": region_, "colour": colour_,
-                            "seed": [float(x) for x in seed[:3]], "cost": cost_,
-                            "anchor": list(ds.design.strips[index].anchors[0].to_list()),
-                            "score_before": list(current), "score_after": list(score(after)),
-                            "time_s": round(elapsed(), 3)}
-                return [entry(first, "uncovered area (with the next strip)", -1, "uncovered", point, cost),
-                        entry(second, reason, region, "red", point2, cost2), after]
+                scores = {"score_before": list(current), "score_after": list(score(after))}
+                return [_entry(ds, first, "uncovered area (with the next strip)", -1, "uncovered", point, cost,
+                               elapsed, **scores),
+                        _entry(ds, second, reason, region, "red", point2, cost2, elapsed, **scores), after]
             w.remove(second)
     w.remove(first)
     return None
@@ -694,10 +699,8 @@ def _weave(w, ds, options):
                     w.remove(index)          # the re-derived design is worse than predicted: reject
                     continue
                 stalls = stalls + 1 if score(after)[:2] >= current[:2] and colour == "red" else 0
-                added = {"strip": index, "reason": reason, "region": region, "colour": colour,
-                         "seed": [float(x) for x in point[:3]], "anchor": list(ds.design.strips[index].anchors[0].to_list()),
-                         "cost": cost, "score_before": list(current), "score_after": list(score(after)),
-                         "time_s": round(elapsed(), 3)}
+                added = _entry(ds, index, reason, region, colour, point, cost, elapsed,
+                               score_before=list(current), score_after=list(score(after)))
                 a = after
                 break
             if added:
@@ -710,14 +713,10 @@ def _weave(w, ds, options):
             if pair is not None:
                 a = pair.pop()
                 for entry in pair:
-                    ds.design.strips[entry["strip"]].extra["added_by"] = {
-                        k: entry[k] for k in ("reason", "region", "colour", "seed")}
-                    result.log.append(entry)
+                    _record(ds, result, entry)
                 continue
         if added:
-            ds.design.strips[added["strip"]].extra["added_by"] = {
-                k: added[k] for k in ("reason", "region", "colour", "seed")}
-            result.log.append(added)
+            _record(ds, result, added)
             continue
         for p in points:      # nothing helped from this region's seeds: do not ask again
             skip.add(_key(p))

@@ -18,25 +18,11 @@
 #pragma once
 
 #include "stripweave/layout/quad_layout.h"
+#include "stripweave/surface/creases.h"
 
 #include <limits>
 
 namespace stripweave {
-
-// Per surface edge, whether the layout treats it as a crease: a sharp feature
-// edge of a B-rep, or of a mesh's feature curve at least kMinCreaseLength
-// long (normalized units: fractions of the bounding-box diagonal). Why: on
-// a scan, the feature curves are mostly short chains of scan noise joined
-// into networks (the rocker-arm: 281 of 291 curves shorter than 0.05, the
-// median 0.01; camelhead and spot alike; fandisk's median is 0.3), and every
-// junction of three of them took a primal vertex as a "corner of the part",
-// wherever in its region it lay: corners of 3 to 20 degrees next to the
-// loops, 30 to 40 degrees mean at such vertices against 17 at centred ones.
-// The surface keeps them (they may be real, and the field and the loops
-// weigh them only softly); the layout, which pins vertices and edges to
-// creases, needs creases that are surely real.
-constexpr double kMinCreaseLength = 0.03;
-std::vector<std::uint8_t> creases_of(const Surface& s);
 
 struct PrimalContext {
   const Surface& surface;

@@ -74,11 +74,11 @@ void finish_topology(Surface& s) {
 
 // Vertices where exact evaluation failed (poles, apexes) take the mean of
 // their evaluated neighbours, spreading inward until all are set.
-void fill_undefined_curvature(Surface& s, std::vector<bool> defined) {
+void fill_undefined_curvature(Surface& s, std::vector<std::uint8_t> defined) {
   const std::vector<Vec3> mesh_normal = area_weighted_normals(s.mesh);
   for (int round = 0; round < 64; ++round) {
     bool missing = false;
-    std::vector<bool> now = defined;
+    std::vector<std::uint8_t> now = defined;
     for (Index v = 0; v < s.mesh.num_vertices(); ++v) {
       if (defined[v]) continue;
       double kmin = 0, kmax = 0;
@@ -101,7 +101,7 @@ void fill_undefined_curvature(Surface& s, std::vector<bool> defined) {
       if (t.norm() < 1e-12) t = (std::abs(nv.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(nv);
       s.d_max[v] = t.normalized();
       s.d_min[v] = nv.cross(s.d_max[v]);
-      now[v] = true;
+      now[v] = 1;
     }
     defined.swap(now);
     if (!missing) return;
@@ -257,8 +257,7 @@ Surface surface_from_brep(std::shared_ptr<const BrepSource> brep, const SurfaceO
     s.d_min[v] = sp.d_min, s.d_max[v] = sp.d_max;
     curvature_defined[v] = 1;
   });
-  std::vector<bool> defined(curvature_defined.begin(), curvature_defined.end());
-  fill_undefined_curvature(s, defined);
+  fill_undefined_curvature(s, std::move(curvature_defined));
   clock.lap("curvature");
 
   stage(progress, "chaining feature curves", 0.95, 1.0);

@@ -1,6 +1,6 @@
 // corner_strength(surface, crease) -> per surface vertex, how much of a
 //   corner it is (0 if none), in radians, given per surface edge whether it
-//   is a crease the layout follows (creases_of in layout/: B-rep edges and
+//   is a crease the layout follows (creases_of, creases.h: B-rep edges and
 //   feature curves long enough to be real, not scan noise):
 //     on the open boundary  the boundary's turn |pi - angle sum| where it
 //                           exceeds kCornerTurn (30 degrees); where a crease
