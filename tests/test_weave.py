@@ -18,7 +18,7 @@ from models import box, filleted_box, key, torus
 from stripweave._native import native
 from stripweave.design import Design
 from stripweave.strips import DesignSession
-from stripweave.weave import WeaveOptions, auto_weave
+from stripweave.weave import WeaveOptions, _assessment_of, auto_weave, flaws, score
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 CLI = os.path.join(os.environ.get("STRIPWEAVE_BUILD", os.path.join(REPO, "build")), "stripweave")
@@ -109,6 +109,13 @@ def test_weaving_refines_a_rounded_box_into_regular_patches(rounded_box, tmp_pat
     assert 24 <= report["patches"] < 160
     assert report["corner_deviation_deg"]["mean"] < 20.0
     assert report["stopped"] in ("work budget", "done", "patch target")
+    # A centred vertex sits at least half its region's inradius from the loops: where the
+    # sides balance alone, a side cut by crossings into several arcs pulled vertices next to
+    # a loop, and a primal edge across it came out a few mesh edges long.
+    centred = [v for v in layout["vertices"] if v["placement"] == "centre"]
+    assert centred
+    assert all(v["clearance"] >= 0.5 * v["inradius"] - 1e-9 for v in centred)
+    assert all(0 < v["clearance"] <= v["inradius"] for v in layout["vertices"] if not v["boundary"])
 
 
 def test_weaving_stops_on_its_work_budget_not_on_the_clock(rounded_box):
@@ -121,6 +128,24 @@ def test_weaving_stops_on_its_work_budget_not_on_the_clock(rounded_box):
     assert 60 <= timed["work"] < 90           # the step that crosses the budget finishes
     more = sw.weave(rounded_box, budget=120)
     assert more["work"] > timed["work"] and more["patches"] > timed["patches"]
+
+
+def test_predicted_assessment_is_the_native_one(rounded_box):
+    """Refinement predicts a candidate by one layout, whose regions give its assessment: the
+    same score, flaws, colours and crossings as weave_assessment of the design with the loop
+    added (the arrangement it used to build a second time)."""
+    ds = DesignSession(rounded_box)
+    auto_weave(ds, WeaveOptions(budget=20, refine=False))
+    a = native.weave_assessment(ds.native, [], 2)
+    points = [p for r in a["regions"] for p in r["seeds"]][:4]
+    assert len(points) >= 2
+    for p in points:
+        loop = ds.loop_session.native.best_loop(list(p), True)
+        predicted = _assessment_of(ds.native.layout_with([loop]))
+        native_one = native.weave_assessment(ds.native, [loop], 0)
+        assert score(predicted) == score(native_one) and flaws(predicted) == flaws(native_one)
+        assert predicted["colours"] == native_one["colours"]
+        assert predicted["crossings"] == native_one["crossings"] > a["crossings"]
 
 
 def test_cube_regions_are_eight_corners(cube):

@@ -7,7 +7,9 @@
 //   Everything regions() gives, and the primal quad layout
 //   (layout/quad_layout.h) in model units:
 //     vertices   [{"position", "valence", "boundary", "region",
-//                  "placement" (corner|boundary|feature|singularity|centre)}]
+//                  "placement" (corner|boundary|feature|singularity|centre),
+//                  "clearance" (its distance from the loops within its
+//                  region), "inradius" (the region's largest)}]
 //     edges      [{"points" (n,3), "vertices": [i, j], "arc", "loop",
 //                  "sharp", "boundary", "length"}]
 //     patches    [{"edges": [4], "reversed": [4], "corners": [4 vertices],
@@ -119,6 +121,8 @@ py::dict layout_dict(const Surface& s, const std::vector<Singularity>& singular,
     d["boundary"] = v.boundary;
     d["region"] = v.region;
     d["placement"] = placement_name(v.placement);
+    d["clearance"] = v.clearance * sim.scale;
+    d["inradius"] = v.inradius * sim.scale;
     vertices.append(d);
     if (v.boundary) ++boundary_valence[v.valence];
     else if (v.valence != 4) ++irregular[v.valence];

@@ -9,7 +9,8 @@ compute_layout returns, in model units:
     regions    [{"valence", "disc", "colour" (none|red|orange|yellow), "total_curvature",
                  "ideal_valence", "area", "singularities", ...}]
     valid      no region is red (only then are there vertices, edges and patches)
-    vertices   [{"position", "valence", "boundary", "placement"}]
+    vertices   [{"position", "valence", "boundary", "placement", "clearance" (from the loops,
+                 within its region), "inradius" (its region's largest clearance)}]
     edges      [{"points", "vertices": [i, j], "sharp", "boundary", "length"}]
     patches    [{"edges": [4], "reversed": [4], "corners": [4], "corner_angles_deg": [4], "area"}]
     summary    {"patches", "irregular_vertices": {"3": n, ...}, "boundary_vertices": {...},

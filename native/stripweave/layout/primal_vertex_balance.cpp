@@ -35,9 +35,21 @@ namespace stripweave {
 std::vector<double> side_balance(const PrimalContext& ctx) {
   const LoopArrangement& A = ctx.arrangement;
   const Index nw = ctx.wedges.count();
+  const double inf = std::numeric_limits<double>::infinity();
   std::vector<double> sum(nw, 0.0);
+  // One search per side, each reaching only its own region (the wedge graph
+  // is cut along every loop): the distances live in one buffer, and only
+  // the wedges a search reached are read and reset, so the cost is the
+  // regions' sizes times their valences, not the sides times the mesh.
+  std::vector<double> dist(nw, inf);
+  std::vector<Index> reached;
   auto length = [&](Index e) { return ctx.edge_length[e]; };
   auto open = [](Index) { return false; };
+  auto add_distances_from = [&](const std::vector<Index>& side) {
+    ctx.grow_shortest_paths(side, length, open, dist, nullptr, &reached);
+    for (Index w : reached) sum[w] += dist[w] * dist[w], dist[w] = inf;
+    reached.clear();
+  };
   for (Index k = 0; k < static_cast<Index>(A.arcs.size()); ++k) {
     const LoopArc& arc = A.arcs[k];
     std::vector<Index> left, right;
@@ -47,14 +59,8 @@ std::vector<double> side_balance(const PrimalContext& ctx) {
       if (wl != kInvalid) left.push_back(wl);
       if (wr != kInvalid) right.push_back(wr);
     }
-    // Each side reaches exactly its own region: the wedge graph is cut
-    // along every loop.
-    for (const std::vector<Index>* side : {&left, &right}) {
-      if (side->empty()) continue;
-      const std::vector<double> d = ctx.shortest_paths(*side, length, open, nullptr);
-      for (Index w = 0; w < nw; ++w)
-        if (d[w] < std::numeric_limits<double>::infinity()) sum[w] += d[w] * d[w];
-    }
+    for (const std::vector<Index>* side : {&left, &right})
+      if (!side->empty()) add_distances_from(*side);
   }
   return sum;
 }

@@ -46,6 +46,14 @@ struct PrimalContext {
   // the previous wedge on the path (kInvalid at sources).
   std::vector<double> shortest_paths(const std::vector<Index>& sources, const std::function<double(Index)>& cost,
                                      const std::function<bool(Index)>& blocked, std::vector<Index>* pred) const;
+  // The same search into a caller's buffers (dist per wedge, infinity where
+  // not yet reached; pred, if given, sized to the wedges), appending each
+  // wedge it reaches to `reached` (if given): many searches that each stay
+  // in one region then cost their regions' sizes, not the mesh's, if the
+  // caller resets only the reached entries.
+  void grow_shortest_paths(const std::vector<Index>& sources, const std::function<double(Index)>& cost,
+                           const std::function<bool(Index)>& blocked, std::vector<double>& dist,
+                           std::vector<Index>* pred, std::vector<Index>* reached) const;
 
   // The wedges (left, right) at vertex i of arc k: the two sides of the
   // arc's edge i (edge i - 1 for the last vertex of an open arc); kInvalid

@@ -87,14 +87,25 @@ std::vector<double> PrimalContext::shortest_paths(const std::vector<Index>& sour
                                                   const std::function<double(Index)>& cost,
                                                   const std::function<bool(Index)>& blocked,
                                                   std::vector<Index>* pred) const {
-  const double inf = std::numeric_limits<double>::infinity();
-  std::vector<double> dist(wedges.count(), inf);
+  std::vector<double> dist(wedges.count(), std::numeric_limits<double>::infinity());
   if (pred) pred->assign(wedges.count(), kInvalid);
+  grow_shortest_paths(sources, cost, blocked, dist, pred, nullptr);
+  return dist;
+}
+
+void PrimalContext::grow_shortest_paths(const std::vector<Index>& sources, const std::function<double(Index)>& cost,
+                                        const std::function<bool(Index)>& blocked, std::vector<double>& dist,
+                                        std::vector<Index>* pred, std::vector<Index>* reached) const {
+  const double inf = std::numeric_limits<double>::infinity();
   using Item = std::pair<double, Index>;
   std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
+  auto reach = [&](Index w, double d) {
+    if (reached && dist[w] == inf) reached->push_back(w);
+    dist[w] = d;
+  };
   for (Index w : sources) {
     if (w == kInvalid) continue;
-    dist[w] = 0;
+    reach(w, 0);
     heap.push({0.0, w});
   }
   while (!heap.empty()) {
@@ -108,13 +119,12 @@ std::vector<double> PrimalContext::shortest_paths(const std::vector<Index>& sour
       if (nd < dist[x] || (pred && nd == dist[x] && w < (*pred)[x] && (*pred)[x] != kInvalid)) {
         if (blocked(x)) continue;
         const bool improved = nd < dist[x];
-        dist[x] = nd;
+        reach(x, nd);
         if (pred) (*pred)[x] = w;
         if (improved) heap.push({nd, x});
       }
     }
   }
-  return dist;
 }
 
 std::pair<Index, Index> PrimalContext::arc_side_wedges(Index k, size_t i) const {

@@ -16,13 +16,14 @@
 //               feature curves meet), a point on the open boundary if the
 //               region touches it, a point on a sharp feature curve
 //               running through the region (where the region's sides
-//               balance, unless the crease keeps nearer to the loops than a
-//               quarter of the region's inradius), the region's single
+//               balance, among its points at least a quarter of the
+//               region's inradius from the loops), the region's single
 //               cross-field singularity (unless it is closer to the loops
 //               than half the region's inradius), else its balanced centre:
 //               the point with the least sum of squared distances to its
 //               sides, where the corridors' middles cross
-//               (primal_vertex_balance.cpp). A boundary vertex also goes
+//               (primal_vertex_balance.cpp), among the points at least half
+//               the inradius from the loops. A boundary vertex also goes
 //               where the sides balance.
 //     edges     primal_edges.cpp: shortest paths in the region cut open along
 //               the loops (each region's shortest-path tree from its vertex,
@@ -60,6 +61,9 @@ struct PrimalVertex {
   int valence = 0;                  // primal edge ends at it
   bool boundary = false;            // on the open boundary
   VertexPlacement placement = VertexPlacement::Centre;
+  // Distance from the loops within its region, and the region's largest
+  // (its inradius), normalized units: how centred the vertex sits.
+  double clearance = 0, inradius = 0;
 };
 
 struct PrimalEdge {
