@@ -117,6 +117,30 @@ def test_short_spurious_crease_chains_are_dropped():
     assert cleaned["feature_edges"] == 0
 
 
+def test_layout_creases_need_a_long_curve_in_their_network():
+    """The layout follows a mesh's crease only in a network (curves joined at junctions) with
+    a curve of at least a tenth of the diagonal: a box's edges (0.58) are creases; the rim of
+    a small square boss on its top (four curves of 0.06, joined) is sharp but no crease, as a
+    scan's networks of short noise ridges are not."""
+    import FreeCAD
+    import Part
+    shape = box(10).fuse(Part.makeBox(1, 1, 0.3, FreeCAD.Vector(4.5, 4.5, 10))).removeSplitter()
+    v, t = tessellated(shape, 0.01)
+    s = sw.from_mesh(v, t, target_triangles=12000)
+    diag = s.report()["bbox_diagonal"]
+    edges, sharp, creases = s.edges, s.edge_class == 1, s.creases.astype(bool)
+    assert not np.any(creases & ~sharp)
+    mid = s.vertices[edges].mean(axis=1)
+    on_boss = (mid[:, 2] > 10 - 1e-6) & (np.abs(mid[:, 0] - 5) < 0.6) & (np.abs(mid[:, 1] - 5) < 0.6)
+    assert np.count_nonzero(sharp & on_boss) >= 8        # the boss's rims are sharp edges...
+    assert not np.any(creases & on_boss)                # ...but not creases
+    boss_curves = [np.linalg.norm(np.diff(p, axis=0), axis=1).sum() / diag
+                   for p in s.feature_curve_points() if np.linalg.norm(np.mean(p, axis=0) - (5, 5, 10.15)) < 1]
+    assert boss_curves and max(boss_curves) < 0.1 and any(x >= 0.03 for x in boss_curves)
+    length = np.linalg.norm(s.vertices[edges[:, 0]] - s.vertices[edges[:, 1]], axis=1)
+    assert length[creases].sum() == pytest.approx(12 * 10, rel=1e-6)   # the box's twelve edges
+
+
 @pytest.mark.parametrize("ext", ["stl", "obj", "off", "ply"])
 def test_mesh_file_round_trip(tmp_path, ext, torus_mesh):
     v, t = torus_mesh

@@ -13,6 +13,7 @@
 #include "stripweave/core/progress.h"
 #include "stripweave/occt/brep_source.h"
 #include "stripweave/surface/build_surface.h"
+#include "stripweave/surface/creases.h"
 #include "stripweave/surface/surface_report.h"
 
 #include <pybind11/numpy.h>
@@ -157,6 +158,11 @@ PYBIND11_MODULE(_stripweave, m) {
       .def_property_readonly("edge_class", [](const Surface& s) {
         return column<std::uint8_t>(s.topology.num_edges(), [&](Index e) { return static_cast<int>(s.edge_class[e]); });
       }, "per edge: 0 regular, 1 sharp feature, 2 open boundary")
+      .def_property_readonly("creases", [](const Surface& s) {
+        const std::vector<std::uint8_t> c = creases_of(s);
+        return column<std::uint8_t>(s.topology.num_edges(), [&](Index e) { return static_cast<int>(c[e]); });
+      }, "per edge: 1 where the layout follows a crease (surface/creases.h): every sharp edge of a B-rep, "
+         "a mesh's sharp edges on long enough curves in a network with a long curve")
       .def_property_readonly("edge_curve", [](const Surface& s) { return index_array(s.edge_curve); })
       .def_property_readonly("feature_curves", [](const Surface& s) {
         py::list out;
