@@ -5,12 +5,18 @@
 
 #include <pybind11/pybind11.h>
 
+#include <string>
+#include <vector>
+
 namespace stripweave_python {
 // Shared by the stage bindings (defined in bind_loops.cpp).
 // An anchor as (x, y, z) or (x, y, z, dx, dy, dz) in model units.
 stripweave::Anchor anchor_from(const stripweave::Surface& s, const std::vector<double>& a);
 // An embedded path as a dict: points (model units), vertex, edge, t, node_start, length.
 pybind11::dict path_dict(const stripweave::Surface& s, const stripweave::SurfacePath& p);
+// An (n, 3) array (or anything numpy turns into one) as points; InputError
+// "<what> must be an (n, 3) array" otherwise.
+std::vector<stripweave::Vec3> points_from(const pybind11::handle& a, const std::string& what);
 
 void bind_loops(pybind11::module_& m);
 void bind_field(pybind11::module_& m);   // cross field (paper §6.1)
@@ -19,5 +25,5 @@ void bind_design(pybind11::module_& m);  // designs, strips, compatibility (§4.
 void bind_regions(pybind11::module_& m);  // loop arrangement, regions, assessment (§4.2)
 void bind_surfacing(pybind11::module_& m);  // patch network -> B-spline patches, shell, STEP
 void bind_weave(pybind11::module_& m);    // automatic weaving: assessment and seed points (issue 6)
-void bind_render(pybind11::module_& m);   // the preview pictures' rasterizer
+void bind_render(pybind11::module_& m);   // the preview pictures' rasterizer and shader
 }

@@ -39,6 +39,15 @@ Anchor anchor_from(const Surface& s, const std::vector<double>& a) {
   return anchor;
 }
 
+std::vector<Vec3> points_from(const py::handle& h, const std::string& what) {
+  const auto a = py::cast<py::array_t<double, py::array::c_style | py::array::forcecast>>(h);
+  if (a.ndim() != 2 || a.shape(1) != 3) throw InputError(what + " must be an (n, 3) array");
+  const auto r = a.unchecked<2>();
+  std::vector<Vec3> out(static_cast<size_t>(r.shape(0)));
+  for (py::ssize_t i = 0; i < r.shape(0); ++i) out[i] = Vec3(r(i, 0), r(i, 1), r(i, 2));
+  return out;
+}
+
 py::dict path_dict(const Surface& s, const SurfacePath& p) {
   py::array_t<double> points({static_cast<py::ssize_t>(p.points.size()), py::ssize_t(3)});
   auto pts = points.mutable_unchecked<2>();

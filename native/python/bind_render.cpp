@@ -33,15 +33,6 @@ namespace {
 using Floats = py::array_t<double, py::array::c_style | py::array::forcecast>;
 using Ints = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>;
 
-// An (n, 3) array as points; `what` names the function and the argument.
-std::vector<Vec3> rows3(const Floats& a, const std::string& what) {
-  if (a.ndim() != 2 || a.shape(1) != 3) throw InputError(what + " must be an (n, 3) array");
-  const auto r = a.unchecked<2>();
-  std::vector<Vec3> out(static_cast<size_t>(r.shape(0)));
-  for (py::ssize_t i = 0; i < r.shape(0); ++i) out[i] = Vec3(r(i, 0), r(i, 1), r(i, 2));
-  return out;
-}
-
 // An (m, 3) array of vertex indices as triangles, each naming one of `vertices`.
 std::vector<Tri> triangles_from(const Ints& a, size_t vertices, const std::string& fn) {
   if (a.ndim() != 2 || a.shape(1) != 3) throw InputError(fn + ": triangles must be an (m, 3) array");
@@ -68,7 +59,7 @@ void bind_render(py::module_& m) {
   m.def(
       "rasterize",
       [](const Floats& screen, const Ints& triangles, int width, int height) {
-        const std::vector<Vec3> points = rows3(screen, "rasterize: screen positions");
+        const std::vector<Vec3> points = points_from(screen, "rasterize: screen positions");
         const std::vector<Tri> tris = triangles_from(triangles, points.size(), "rasterize");
         if (width < 0 || height < 0) throw InputError("rasterize: the image size must not be negative");
         Raster r;
@@ -105,13 +96,13 @@ void bind_render(py::module_& m) {
         look.background = vec3(background, "the background");
         if (!(stripe_period > 0)) throw InputError("shade: the stripe period must be positive");
         look.stripe_period = stripe_period;
-        const std::vector<Vec3> points = rows3(vertices, "shade: vertices");
-        const std::vector<Vec3> vertex_normals = rows3(normals, "shade: normals");
+        const std::vector<Vec3> points = points_from(vertices, "shade: vertices");
+        const std::vector<Vec3> vertex_normals = points_from(normals, "shade: normals");
         if (vertex_normals.size() != points.size()) throw InputError("shade: one normal per vertex is needed");
         const std::vector<Tri> tris = triangles_from(triangles, points.size(), "shade");
         const py::ssize_t nt = static_cast<py::ssize_t>(tris.size());
         if (!tints.is_none()) {
-          look.tint = rows3(tints.cast<Floats>(), "shade: tints");
+          look.tint = points_from(tints, "shade: tints");
           if (static_cast<py::ssize_t>(look.tint.size()) != nt) throw InputError("shade: one tint per triangle is needed");
         }
         if (hues.size() != stripes.size()) throw InputError("shade: one hue per strip is needed");

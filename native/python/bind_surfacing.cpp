@@ -46,18 +46,7 @@ namespace stripweave_python {
 
 namespace {
 
-using ArrayD = py::array_t<double, py::array::c_style | py::array::forcecast>;
 using ArrayI = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>;
-
-std::vector<Vec3> points_of(const py::handle& h, const char* what) {
-  const ArrayD a = py::cast<ArrayD>(h);
-  if (a.ndim() != 2 || a.shape(1) != 3) throw InputError(std::string(what) + " must be an (n, 3) array");
-  auto r = a.unchecked<2>();
-  std::vector<Vec3> out;
-  out.reserve(r.shape(0));
-  for (py::ssize_t i = 0; i < r.shape(0); ++i) out.emplace_back(r(i, 0), r(i, 1), r(i, 2));
-  return out;
-}
 
 template <size_t N, typename T>
 std::array<T, N> fixed_list(const py::handle& h, const char* what) {
@@ -76,11 +65,11 @@ py::object item(const py::dict& d, const char* key, const char* what) {
 PatchNetwork network_from(const py::dict& net, double diagonal) {
   PatchNetwork n;
   n.bbox_diagonal = diagonal;
-  n.vertices = points_of(item(net, "vertices", "network"), "network vertices");
+  n.vertices = points_from(item(net, "vertices", "network"), "network vertices");
   for (const py::handle& eh : py::cast<py::list>(item(net, "edges", "network"))) {
     const py::dict e = py::cast<py::dict>(eh);
     NetworkEdge E;
-    E.points = points_of(item(e, "points", "an edge"), "edge points");
+    E.points = points_from(item(e, "points", "an edge"), "edge points");
     const auto v = fixed_list<2, Index>(item(e, "vertices", "an edge"), "edge vertices");
     E.v0 = v[0], E.v1 = v[1];
     E.sharp = e.contains("sharp") && py::cast<bool>(e["sharp"]);
@@ -93,7 +82,7 @@ PatchNetwork network_from(const py::dict& net, double diagonal) {
     P.edges = fixed_list<4, Index>(item(p, "edges", "a patch"), "patch edges");
     P.reversed = fixed_list<4, bool>(item(p, "reversed", "a patch"), "patch reversed");
     P.corners = fixed_list<4, Index>(item(p, "corners", "a patch"), "patch corners");
-    P.mesh.positions = points_of(item(p, "vertices", "a patch"), "patch vertices");
+    P.mesh.positions = points_from(item(p, "vertices", "a patch"), "patch vertices");
     const ArrayI t = py::cast<ArrayI>(item(p, "triangles", "a patch"));
     if (t.ndim() != 2 || t.shape(1) != 3) throw InputError("patch triangles must be an (m, 3) array");
     auto tr = t.unchecked<2>();

@@ -1,7 +1,7 @@
 """preview.png: a layout drawn on the shaded model, rendered offscreen (issue 6).
 
     render_preview(path, vertices, triangles, normals, stripes=[...], tints=..., lines=[...])
-    render_design(path, ds, layout=None)     # what `stripweave weave` writes
+    render_design(path, ds, layout=None, regions=None)  # what `stripweave weave` writes
     render_deviation(path, ds, fit, details=None)  # deviation.png of `weave --step`: patches by fit
 
 People look at layouts; they do not read them. The picture shows the part shaded (Lambert,
@@ -10,7 +10,7 @@ strip map, so crossing strips form a grid), the region colours of the assessment
 (red, orange, yellow), and patch edges (or, without a layout, the dual loops) as lines.
 
 This is a small software renderer on purpose: no display, no FreeCAD GUI, no dependency
-beyond numpy and zlib. Triangles are rasterized in an orthographic view by the native
+beyond numpy, zlib and the native library. Triangles are rasterized in an orthographic view by the native
 library (render/rasterize.h: per pixel the nearest triangle and its barycentrics; the numpy
 rasterizer before it took 1.5 to 2.7 s of a weave run, the native one 0.15 s, the same
 pixels), and pixels are shaded from their triangle and barycentrics (render/shade.h: the

@@ -590,8 +590,8 @@ def _coverage_pair(w, ds, options, a, candidate, elapsed):
     bow), every loop around the shaft cuts off a cap no loop crosses, a red region, and the
     layout stays one patch over the whole part; the cap's crossing loop runs along the
     shaft. Both are kept if the design ends valid with more crossings, less uncovered area
-    and colours no worse (score), else both are removed. Returns the two log entries and
-    the assessment after them, or None."""
+    and colours no worse (score), else both are removed. Returns ([the two log entries],
+    the assessment after them), or None."""
     current = score(a)
     _, cost, loop, point, _ = candidate
     first = w.add(loop, point)
@@ -614,7 +614,7 @@ def _coverage_pair(w, ds, options, a, candidate, elapsed):
                 scores = {"score_before": list(current), "score_after": list(score(after))}
                 return [_entry(ds, first, "uncovered area (with the next strip)", -1, "uncovered", point, cost,
                                elapsed, **scores),
-                        _entry(ds, second, reason, region, "red", point2, cost2, elapsed, **scores), after]
+                        _entry(ds, second, reason, region, "red", point2, cost2, elapsed, **scores)], after
             w.remove(second)
     w.remove(first)
     return None
@@ -736,8 +736,8 @@ def _weave(w, ds, options):
             # would use better (the rocker-arm: 17.4 against 16.6 degrees).
             pair = _coverage_pair(w, ds, options, a, splitting[0], elapsed)
             if pair is not None:
-                a = pair.pop()
-                for entry in pair:
+                entries, a = pair
+                for entry in entries:
                     _record(ds, result, entry)
                 continue
         if added:
