@@ -224,6 +224,46 @@ def test_timeouts_and_crashes_are_recorded_and_the_batch_goes_on(corpus, wrapper
     assert not left
 
 
+KILLED_BATCH = """
+import sys
+sys.path[:0] = {path!r}
+from stripweave.batch import run_batch
+run_batch({models!r}, {out!r}, weave_args={small!r}, command=({command!r}, {env!r}), progress=None)
+"""
+
+
+def test_a_killed_batch_leaves_what_it_had_and_no_jobs(corpus, wrapper, tmp_path):
+    """summary.json is rewritten after every model; SIGTERM stops the batch and kills its
+    running job (in a process group of its own, the signal would not reach it)."""
+    (tmp_path / "slow_part.stl").write_text("solid x\nendsolid\n")
+    out = str(tmp_path / "out")
+    models = [os.path.join(corpus["root"], "box.step"), str(tmp_path / "slow_part.stl")]
+    script = KILLED_BATCH.format(path=sys.path, models=models, out=out, small=SMALL, command=wrapper[0],
+                                 env=wrapper[1])
+    batch = subprocess.Popen([sys.executable, "-c", script], stderr=subprocess.PIPE, text=True)
+    summary_path = os.path.join(out, "summary.json")
+    models_done = []
+    for _ in range(3000):        # until the box is done (bounded: the box takes seconds)
+        if batch.poll() is not None:
+            break
+        try:
+            with open(summary_path, encoding="utf-8") as f:
+                models_done = json.load(f)["models"]
+        except (OSError, ValueError):
+            pass
+        if models_done:
+            break
+        time.sleep(0.1)
+    time.sleep(0.5)              # the slow job has started
+    batch.send_signal(signal.SIGTERM)
+    assert batch.wait(timeout=60) == 128 + signal.SIGTERM, batch.stderr.read()
+    with open(summary_path, encoding="utf-8") as f:
+        summary = json.load(f)
+    assert [(os.path.basename(e["model"]), e["status"]) for e in summary["models"]] == [("box.step", "ok")]
+    left = [p for p in psutil.process_iter(["cmdline"]) if (p.info["cmdline"] or [])[-1:] == ["297"]]
+    assert not left
+
+
 def test_a_memory_limit_kills_the_job_with_an_error_naming_it(corpus, tmp_path):
     from stripweave.batch import run_batch
     torus_path = os.path.join(corpus["root"], "meshes", "torus.OBJ")

@@ -267,11 +267,36 @@ def run_batch(inputs, out, step=False, jobs=1, time_limit_s=600.0, memory_limit_
             print(format_progress(len(finished), len(entries), entries[i]), file=progress, flush=True)
 
     write_summary(out, [])
-    if scheduler:
-        _run_on_dask(specs, scheduler, done)
-    else:
-        _run_locally(specs, jobs, done)
+    with _stopped_by_signals():
+        if scheduler:
+            _run_on_dask(specs, scheduler, done)
+        else:
+            _run_locally(specs, jobs, done)
     return {"format": "stripweave-batch", "version": 1, "models": entries}
+
+
+class _stopped_by_signals:
+    """While a batch runs, SIGTERM and SIGHUP stop it as Ctrl-C does (an exception, so the
+    running jobs are killed): its jobs have process groups of their own, and would outlive
+    a batch that died at once. Only in the main thread, where Python takes signals."""
+
+    SIGNALS = (signal.SIGTERM, signal.SIGHUP)
+
+    def __enter__(self):
+        self.saved = {}
+        if threading.current_thread() is threading.main_thread():
+            for s in self.SIGNALS:
+                self.saved[s] = signal.signal(s, self._raise)
+        return self
+
+    @staticmethod
+    def _raise(number, frame):
+        raise SystemExit(128 + number)
+
+    def __exit__(self, *exc):
+        for s, handler in self.saved.items():
+            signal.signal(s, handler)
+        return False
 
 
 class _Running:

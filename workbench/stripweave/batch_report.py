@@ -108,7 +108,7 @@ def totals(entries):
              else f"clean {NA}")
     seconds = sum(e["time_s"] or 0.0 for e in entries)
     peak = max((e["peak_memory_mb"] or 0.0 for e in entries), default=0.0)
-    return (f"{len(entries)} models: {counts['ok']} ok, {counts['error']} error, {counts['timeout']} timeout, "
+    return (f"{len(entries)} model{'' if len(entries) == 1 else 's'}: {counts['ok']} ok, {counts['error']} error, {counts['timeout']} timeout, "
             f"{counts['crash']} crash; {valid} valid, {clean}; {seconds:.1f} s in all (summed over the models), "
             f"largest peak memory {peak:.0f} MB")
 
@@ -120,7 +120,7 @@ def format_progress(n, total, entry):
     if r:
         figures.append(f"{'valid' if r.get('valid') else 'NOT valid'}"
                        + ("" if "clean" not in r else (", clean" if r["clean"] else ", not clean")))
-        figures.append(f"{r.get('patches', NA)} patches")
+        figures.append(f"{r.get('patches', NA)} patch{'' if r.get('patches') == 1 else 'es'}")
         fit, coverage = _fit(r)
         if fit != NA:
             figures.append(f"fit {fit}, coverage {coverage}")

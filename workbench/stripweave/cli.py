@@ -213,8 +213,13 @@ def cmd_batch(args):
         weave_args += ["--boundary", args.boundary]
     if args.no_features:
         weave_args.append("--no-features")
-    summary = run_batch(args.models, args.out, step=args.step, jobs=args.jobs, time_limit_s=args.time_limit,
-                        memory_limit_mb=args.memory_limit, scheduler=args.scheduler, weave_args=weave_args)
+    try:
+        summary = run_batch(args.models, args.out, step=args.step, jobs=args.jobs, time_limit_s=args.time_limit,
+                            memory_limit_mb=args.memory_limit, scheduler=args.scheduler, weave_args=weave_args)
+    except KeyboardInterrupt:
+        print(f"stripweave: interrupted; the running jobs were killed, {args.out}/summary.* hold the models "
+              "finished", file=sys.stderr)
+        return 130
     from .batch_report import totals
     print(totals(summary["models"]))
     print(f"wrote {args.out}/summary.json, summary.md, index.html")
