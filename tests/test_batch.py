@@ -92,6 +92,9 @@ def test_a_broken_model_is_recorded_and_the_others_finish(batch, corpus):
         # the batch watches the whole process, so it sees at least the weave's own peak
         assert entry["peak_memory_mb"] >= 0.99 * report["peak_memory_mb"] > 0
         assert os.path.isfile(os.path.join(batch["out"], entry["out"], "preview.png"))
+        with open(os.path.join(batch["out"], entry["out"], "weave.json"), encoding="utf-8") as f:
+            printed = json.load(f)                                             # weave --json's output
+        assert printed["patches"] == report["patches"] and "stopped" in printed
     assert by_name["torus.OBJ"]["report"]["input_triangles"] == corpus["torus_triangles"]
     assert by_name["box.step"]["report"]["input_triangles"] == 12            # 6 planar faces, 2 triangles each
     progress = [line for line in p.stderr.splitlines() if re.match(r"\[\d/3\] ", line)]

@@ -8,7 +8,9 @@
 
 Inputs   model files, and folders searched recursively for MODEL_SUFFIXES (any case);
          a file named on the command line is taken whatever its suffix.
-Outputs  OUT/<name>/      the weave outputs of one model, and weave.log (its stderr)
+Outputs  OUT/<name>/      the weave outputs of one model, weave.log (its stderr) and
+                          weave.json (its --json output: report.json's content and "paths",
+                          "stopped" (why weaving ended), "work")
          OUT/summary.json {"format": "stripweave-batch", "version": 1, "models": [entry]},
                           entry {"model", "status", "error", "time_s", "peak_memory_mb",
                           "report", "out"} (design.md; "out" names OUT/<name>)
@@ -33,7 +35,6 @@ import os
 import signal
 import subprocess
 import sys
-import tempfile
 import threading
 import time
 
@@ -43,7 +44,8 @@ from .batch_report import format_progress, write_summary
 
 MODEL_SUFFIXES = (".step", ".stp", ".iges", ".igs", ".brep", ".brp", ".stl", ".obj", ".off", ".ply", ".fcstd")
 POLL_S = 0.1                     # how often a running job's time and memory are checked
-WEAVE_OUTPUTS = ("design.json", "layout.json", "report.json", "preview.png", "deviation.png", "patches.step")
+WEAVE_OUTPUTS = ("design.json", "layout.json", "report.json", "preview.png", "deviation.png", "patches.step",
+                 "weave.json")
 
 
 # --- which models, and where their outputs go ------------------------------------------
@@ -126,8 +128,9 @@ def run_job(job, running=None):
         except FileNotFoundError:
             pass
     start = time.monotonic()
+    stdout_path = os.path.join(job["out"], "weave.stdout")
     with open(os.path.join(job["out"], "weave.log"), "w", encoding="utf-8") as log, \
-            tempfile.TemporaryFile() as stdout:
+            open(stdout_path, "w", encoding="utf-8") as stdout:
         proc = subprocess.Popen(job["argv"], stdout=stdout, stderr=log, stdin=subprocess.DEVNULL,
                                 env=job["env"], start_new_session=True)
         if running is not None:
@@ -139,6 +142,7 @@ def run_job(job, running=None):
             if running is not None:
                 running.discard(proc.pid)
     elapsed = time.monotonic() - start
+    _split_stdout(stdout_path, job["out"])
     peak = max(sampled_mb, rusage.ru_maxrss / 1024.0)   # ru_maxrss: kB, the exact peak of the process
     state, error = _status(killed, os.waitstatus_to_exitcode(status), job, os.path.join(job["out"], "weave.log"))
     report = _read_report(job["out"])
@@ -146,6 +150,22 @@ def run_job(job, running=None):
         state, error = "error", "the job wrote no report.json"
     return {"model": job["model"], "status": state, "error": error, "time_s": round(elapsed, 2),
             "peak_memory_mb": round(peak, 1), "report": report}
+
+
+def _split_stdout(stdout_path, folder):
+    """weave --json prints one line of JSON; libraries may print more (OCCT's STEP writer
+    does, for mesh inputs). The JSON line goes to weave.json, the rest to weave.log."""
+    with open(stdout_path, encoding="utf-8", errors="replace") as f:
+        lines = f.read().splitlines()
+    os.remove(stdout_path)
+    printed = [line for line in lines if line.startswith("{")]
+    if printed:
+        with open(os.path.join(folder, "weave.json"), "w", encoding="utf-8") as f:
+            f.write(printed[-1] + "\n")
+    rest = [line for line in lines if not line.startswith("{")]
+    if rest:
+        with open(os.path.join(folder, "weave.log"), "a", encoding="utf-8") as f:
+            f.write("".join(f"{line}\n" for line in rest))
 
 
 def _watch(proc, start, job):
