@@ -73,7 +73,7 @@ REGION_MEANING = {"red": "not a disc", "orange": "2+ singularities", "yellow": "
 # Strip hues: distinct, darkish, so stripes read on the light base.
 HUES = np.array([(0.12, 0.38, 0.75), (0.1, 0.55, 0.3), (0.6, 0.2, 0.6), (0.0, 0.5, 0.6), (0.45, 0.35, 0.1),
                  (0.75, 0.3, 0.1), (0.3, 0.3, 0.65), (0.2, 0.5, 0.1)])
-STRIPE_STRENGTH = 0.22           # dimmed: the stripes show the strips without hiding the edges
+STRIPE_STRENGTH = 0.16           # dimmed: the stripes show the strips without hiding the edges
 TINT_SHARE = 0.55                # a tint's share of the colour (render/shade.h)
 UP = np.array([0.0, 0.0, 1.0])
 
@@ -300,7 +300,7 @@ def render_view(scene, view, width, height, supersample=2, up=UP):
     light /= np.linalg.norm(light)
     tri_img, bary, depth = rasterize(project(vertices), scene.triangles, W, H)
     diag = np.linalg.norm(vertices.max(0) - vertices.min(0))
-    period = scene.stripe_period or diag / 70.0
+    period = scene.stripe_period or diag / 55.0   # sparser than the solver could draw: a texture, not a grid
     img = shade(tri_img, bary, vertices, scene.triangles, scene.normals, light, scene.stripes, scene.tints, period)
     img = img.reshape(H, W, 3)
     if scene.hatch is not None and np.any(scene.hatch):
