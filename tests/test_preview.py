@@ -196,7 +196,9 @@ def panels(image):
 
 
 def drawn(panel):
-    return np.any(panel < 250, axis=2)
+    """The part's pixels: not background, not the axis triad."""
+    triad = [np.all(np.abs(panel.astype(int) - np.array(c) * 255) <= 2, axis=2) for c in preview.AXIS_COLOURS]
+    return np.any(panel < 250, axis=2) & ~np.any(triad, axis=0)
 
 
 def hue_share(panel, colour, cos=0.999):
@@ -392,3 +394,20 @@ def test_uncovered_colour_is_exactly_where_uncovered_says(monkeypatch):
     inside = (xs > x0 + 3) & (xs < x1 - 3) & (ys > y0 + 3) & (ys < y1 - 3)
     outside = ~((xs > x0 - 3) & (xs < x1 + 3) & (ys > y0 - 3) & (ys < y1 + 3))
     assert hit[inside].mean() > 0.95 and hit[outside].sum() == 0
+
+
+def test_each_view_shows_the_model_axes():
+    # Seen from above with +z up, the z axis of the triad points straight up the image, and
+    # from the front's opposite the x axis points the other way.
+    v, t, n = box_mesh((0, 0, 0), (4, 3, 2))
+    img, (front, back) = preview.picture(preview.Scene(v, t, n), [])
+    colour = lambda k: np.all(np.abs(img.astype(int) - np.array(preview.AXIS_COLOURS[k]) * 255) <= 2, axis=2)  # noqa: E731
+    oy = PANEL_H - 56
+    for ox in (56, PANEL_W + 56):
+        assert colour(2)[oy - 25:oy - 2, ox].all()                 # z: up from the origin
+        assert not colour(2)[oy + 2:oy + 30, ox].any()
+    right = lambda d: preview.image_axes(d)[0]  # noqa: E731
+    for ox, d in ((56, front), (PANEL_W + 56, back)):
+        side = np.sign(right(d)[0])                                 # x's screen direction
+        xs = np.nonzero(colour(0)[oy - 40:oy + 40, ox - 40:ox + 40].any(0))[0] - 40
+        assert np.all(np.sign(xs[np.abs(xs) > 3]) == side)

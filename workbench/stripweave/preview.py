@@ -171,14 +171,20 @@ def _fallback_up(view):
     return ("+y", np.array([0, 1.0, 0])) if abs(view[1]) < 0.95 else ("+z", np.array([0, 0, 1.0]))
 
 
-def camera(view, vertices, width, height, margin=0.06, up=UP):
-    """Orthographic camera: the map model -> pixel (x, y, depth) and model units per pixel.
-    Image up is `up` projected onto the image plane (_fallback_up when the view is along it)."""
+def image_axes(view, up=UP):
+    """(right, up, view): the image's axes in model space, unit. Image up is `up` projected onto
+    the image plane (_fallback_up when the view is along it)."""
     view = np.asarray(view, float) / np.linalg.norm(view)
     up0 = np.asarray(up, float) if abs(np.dot(up, view)) < 0.95 else _fallback_up(view)[1]
     right = np.cross(up0, view)
     right /= np.linalg.norm(right)
-    up = np.cross(view, right)
+    return right, np.cross(view, right), view
+
+
+def camera(view, vertices, width, height, margin=0.06, up=UP):
+    """Orthographic camera (image_axes): the map model -> pixel (x, y, depth) and model units
+    per pixel."""
+    right, up, view = image_axes(view, up)
     v = np.asarray(vertices, float)
     x, y = v @ right, v @ up
     span = max((x.max() - x.min()) / width, (y.max() - y.min()) / height, 1e-30) / (1 - 2 * margin)
@@ -389,6 +395,29 @@ def draw_colour_bar(canvas, tolerance, x0, y0, length=420, h=16):
     return y + h + 8 + 2 * CELL_H * TEXT
 
 
+AXIS_COLOURS = ((0.8, 0.1, 0.1), (0.1, 0.55, 0.1), (0.1, 0.2, 0.85))   # x, y, z
+
+
+def draw_triad(image, view, up, x0=56, length=34):
+    """The model axes as seen in a view, from a corner (x0 from the left and bottom): x red,
+    y green, z blue, each named at its tip; an axis along the view is a short stub. (x0, the
+    origin, is in panel pixels.)"""
+    right, upv, _ = image_axes(view, up)
+    ox, oy = x0, image.shape[0] - x0
+    background = np.all(image == BACKGROUND / 255.0, axis=2)   # the triad never hides the part
+    out = image.copy()
+    for k, name in enumerate("XYZ"):
+        e = np.eye(3)[k]
+        dx, dy = length * (e @ right), -length * (e @ upv)
+        t = np.linspace(0, 1, 4 * length)
+        for w in (-1, 0, 1):          # three pixels wide
+            xs = np.round(ox + t * dx + w * (abs(dy) > abs(dx))).astype(int)
+            ys = np.round(oy + t * dy + w * (abs(dy) <= abs(dx))).astype(int)
+            out[ys, xs] = AXIS_COLOURS[k]
+        draw_text(out, name, ox + dx + 9 * np.sign(dx) - 5, oy + dy + 11 * np.sign(dy) - 9, AXIS_COLOURS[k], TEXT)
+    image[background] = out[background]
+
+
 def _direction(d):
     x, y, z = (0.0 if abs(c) < 5e-3 else c for c in d)    # no "-0.00"
     return f"{x:.2f}, {y:.2f}, {z:.2f}"
@@ -436,8 +465,11 @@ def picture(scene, legend_items, view=None, colour_bar=None, supersample=2):
     ph, pw = HEIGHT - LEGEND_H, WIDTH // 2
     if abs(front @ up) >= 0.95:     # looking along up: the camera's fallback is up
         up_name = _fallback_up(front)[0]
-    views = [(f"{name}: from ({_direction(d)}), {up_name} up", render_view(scene, d, pw, ph, supersample, up))
-             for name, d in (("front", front), ("back", back))]
+    views = []
+    for name, d in (("front", front), ("back", back)):
+        img = render_view(scene, d, pw, ph, supersample, up)
+        draw_triad(img, d, up)
+        views.append((f"{name}: from ({_direction(d)}), {up_name} up", img))
     return compose(views, legend_items, colour_bar), (front, back)
 
 
