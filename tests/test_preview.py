@@ -354,7 +354,8 @@ def test_defective_patches_and_vertices_are_marked(monkeypatch):
 def test_colour_bar_is_in_model_units(monkeypatch):
     v, t, n = grid_square()
     details = _halves(v, t)
-    fit = {"tolerance": 0.25, "per_patch": [{"max_deviation": 0.1}, {"max_deviation": 0.6}]}
+    fit = {"tolerance": 0.25, "per_patch": [{"max_deviation": 0.1}, {"max_deviation": 0.6}],
+           "max_deviation": 0.6, "coverage": 0.98765}
     images = _capture(monkeypatch)
     preview.render_deviation("unused.png", _fake_session(v, t, n), fit, details=details)
     img = images[-1]
@@ -368,6 +369,7 @@ def test_colour_bar_is_in_model_units(monkeypatch):
     (tx, ty), = find_text(img, "tolerance", preview.INK)
     assert abs(tx + text_size("tolerance")[0] / 2 - xs[2]) < 3   # under the tolerance's tick
     assert find_text(img, "uncovered (>50%)", preview.INK)
+    assert find_text(img, "max deviation 0.6", preview.INK) and find_text(img, "coverage 98.77%", preview.INK)
 
 
 def test_uncovered_colour_is_exactly_where_uncovered_says(monkeypatch):

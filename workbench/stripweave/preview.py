@@ -371,7 +371,7 @@ def _number(value):
     return f"{value:.3g}" if value == 0 or 1e-3 <= abs(value) < 1e5 else f"{value:.2e}"
 
 
-def draw_colour_bar(canvas, tolerance, x0, y0, length=420, h=16):
+def draw_colour_bar(canvas, tolerance, x0, y0, length=400, h=16):
     """The deviation scale from 0 to 2 x tolerance in model units (colours as drawn), ticks
     at quarters of it labelled in model units, the tolerance marked by a long tick. Returns
     the y under it."""
@@ -436,7 +436,7 @@ def compose(views, legend_items, colour_bar=None):
     y, x = ph + 8, 12
     if colour_bar is not None:
         draw_colour_bar(canvas, colour_bar, x, y)
-        x = 470
+        x = 480
     draw_legend(canvas, legend_items, x, y, WIDTH - 8)
     return np.clip(canvas * 255 + 0.5, 0, 255).astype(np.uint8)
 
@@ -626,10 +626,17 @@ def patch_deviation_tints(details, fit, triangle_count, uncovered=None):
     return tints
 
 
-def deviation_legend():
-    return [("line", EDGE, "patch edge"), ("swatch", tint_as_drawn(NOT_FITTED), "not fitted"),
-            ("swatch", tint_as_drawn(UNCOVERED), "uncovered (>50%)"),
-            ("swatch", BASE * 0.87, "in no patch")]
+def deviation_legend(fit):
+    """The deviation picture's legend: what its colours mean, and the fit's own figures (its
+    largest deviation, two-sided where the fit measures both ways, and its coverage, where
+    the fit reports them)."""
+    items = [("line", EDGE, "patch edge"), ("swatch", tint_as_drawn(NOT_FITTED), "not fitted"),
+             ("swatch", tint_as_drawn(UNCOVERED), "uncovered (>50%)"), ("swatch", BASE * 0.87, "in no patch")]
+    if "max_deviation" in fit:
+        items.append(("text", INK, f"max deviation {_number(float(fit['max_deviation']))}"))
+    if "coverage" in fit:
+        items.append(("text", INK, f"coverage {100 * float(fit['coverage']):.2f}%"))
+    return items
 
 
 def render_deviation(path, ds, fit, details=None, uncovered=None, **kw):
@@ -643,4 +650,4 @@ def render_deviation(path, ds, fit, details=None, uncovered=None, **kw):
     tints = patch_deviation_tints(details, fit, len(s.triangles), uncovered)
     edges = [e["points"] for e in details.get("edges", [])]
     scene = Scene(s.vertices, s.triangles, s.normals, [], tints, edges)
-    return render_scene(path, scene, deviation_legend(), colour_bar=float(fit["tolerance"]), **kw)
+    return render_scene(path, scene, deviation_legend(fit), colour_bar=float(fit["tolerance"]), **kw)
