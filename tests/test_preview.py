@@ -278,6 +278,9 @@ def test_a_tall_part_stands_upright_in_both_views(axis):
 def test_up_is_z_unless_another_side_is_clearly_the_base():
     v, _, _ = box_mesh((0, 0, 0), (2, 3, 10))          # a tall box: every side as much a base
     assert preview.up_axis(v)[0] == "+z"
+    v, _, _ = frustum(1.0, 3.0, 12.0)                  # wide at its top: still as modelled
+    assert preview.base_share(v, (0, 0, -1)) > 0.9 > 0.3 > preview.base_share(v, (0, 0, 1))
+    assert preview.up_axis(v)[0] == "+z"
     v, _, _ = frustum(3.0, 1.0, 12.0, axis=0)
     assert preview.up_axis(v)[0] == "+x"
     assert preview.base_share(v, (1, 0, 0)) > 0.9 > 0.3 > preview.base_share(v, (0, 0, 1))

@@ -24,13 +24,14 @@ means (text: raster_text.py).
 
 Up (up_axis). A part should stand as it stands in use, never upside down. Up is the model's
 +z (the CAD convention, FreeCAD's and STEP's: a part appears as its designer placed it) unless
-another of the six axis directions is clearly more of a base to stand on: base_share(up) is the
-area of the convex outline of the part's lowest slab (2 % of the diagonal deep) over that of the
++y or +x is clearly more of a base to stand on (conventions differ in which axis is up, but
+nobody models a part upside down, so a negative axis is never up): base_share(up) is the area
+of the convex outline of the part's lowest slab (2 % of the diagonal deep) over that of the
 whole part, both seen along up; a foot, a pedestal, four legs or a flat underside score near 1,
-a side that meets the ground along a curve or at a point near 0. Another direction wins only
-with 1.5 times +z's share, so a box or a tall prism (every side as much a base) keeps +z and
-stands upright, and a scan or graphics mesh modelled y-up (a cow on its four feet, a statue on
-its pedestal) stands on its feet. Both views and both pictures use the same up.
+a side that meets the ground along a curve or at a point near 0. +y or +x wins only with 1.5
+times +z's share, so a box or a tall prism (every side as much a base) keeps +z and stands
+upright, and a scan or graphics mesh modelled y-up (a cow on its four feet, a statue on its
+pedestal) stands on its feet. Both views and both pictures use the same up.
 
 The two views (view_pair). Front is the direction, among eight from above at the isometric
 elevation (35.26 degrees over the horizon of up) and two horizontal ones (weighted 0.8: a 3D
@@ -80,8 +81,9 @@ UP = np.array([0.0, 0.0, 1.0])
 
 # --- the views -----------------------------------------------------------------
 
-AXES = (("+z", (0, 0, 1)), ("-z", (0, 0, -1)), ("+x", (1, 0, 0)), ("-x", (-1, 0, 0)), ("+y", (0, 1, 0)),
-        ("-y", (0, -1, 0)))
+# Up is one of the model's positive axes: conventions differ in which axis is up (CAD's z, many
+# scans' and graphics meshes' y), but nobody models a part upside down.
+AXES = (("+z", (0, 0, 1)), ("+y", (0, 1, 0)), ("+x", (1, 0, 0)))
 BASE_DEPTH = 0.02      # a part's base: its lowest slab, this share of the bounding box diagonal deep
 BASE_CLEARLY = 1.5     # another side is the base only when its share is this many times +z's
 
@@ -123,8 +125,9 @@ def base_share(vertices, up):
 
 def up_axis(vertices):
     """(name, unit vector): the model's +z (CAD's up: a part appears as its designer placed it),
-    unless another axis direction is clearly more of a base to stand on (base_share over
-    BASE_CLEARLY times +z's): a scan or a graphics mesh modelled y-up stands on its feet then."""
+    unless +y or +x is clearly more of a base to stand on (base_share over BASE_CLEARLY times
+    +z's): a scan or a graphics mesh modelled y-up stands on its feet then. Never a negative
+    axis: a part whose top is flatter than its bottom still stands as modelled."""
     share = {name: base_share(vertices, d) for name, d in AXES}
     best = max(share, key=lambda name: share[name] * (1 + 1e-9 * (name == "+z")))
     name = best if share[best] > BASE_CLEARLY * share["+z"] else "+z"
