@@ -302,10 +302,8 @@ def render_view(scene, view, width, height, supersample=2, up=UP):
     W, H, ss = width * supersample, height * supersample, supersample
     project, span = camera(view, vertices, W, H, up=up)
     # Light from the upper left of the viewer, so faces of a box get distinct tones.
-    o = project(np.zeros((1, 3)))[0]
-    right = project(np.eye(3))[:, 0] - o[0]
-    up = -(project(np.eye(3))[:, 1] - o[1])
-    light = view / np.linalg.norm(view) - 0.45 * right / np.linalg.norm(right) + 0.7 * up / np.linalg.norm(up)
+    right, image_up, eye = image_axes(view, up)
+    light = eye - 0.45 * right + 0.7 * image_up
     light /= np.linalg.norm(light)
     tri_img, bary, depth = rasterize(project(vertices), scene.triangles, W, H)
     diag = np.linalg.norm(vertices.max(0) - vertices.min(0))
