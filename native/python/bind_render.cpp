@@ -7,11 +7,13 @@
 //   none). Errors: InputError for arrays of the wrong shape or a triangle
 //   naming a vertex that does not exist.
 // shade(triangle, bary, vertices, normals, triangles, light, base, background,
-//       tints=None, stripes=[], hues=[], stripe_period=1) -> (pixels, 3) RGB
+//       tints=None, stripes=[], hues=[], stripe_period=1, stripe_strength=0.6)
+//       -> (pixels, 3) RGB
 //   The pixels of rasterize's output shaded (render/shade.h): tints (m, 3)
 //   per triangle with NaN rows for none; stripes, per strip, its stripe
 //   coordinates per triangle corner (m, 3, 2: along, across; NaN outside),
-//   with hues, one RGB per strip.
+//   with hues, one RGB per strip; stripe_strength in [0, 1], the stripe line's
+//   share of the colour.
 #include "bind.h"
 
 #include "stripweave/core/error.h"
@@ -89,13 +91,16 @@ void bind_render(py::module_& m) {
       [](const Ints& triangle, const Floats& bary, const Floats& vertices, const Floats& normals, const Ints& triangles,
          const std::vector<double>& light,
          const std::vector<double>& base, const std::vector<double>& background, py::object tints,
-         const std::vector<Floats>& stripes, const std::vector<std::vector<double>>& hues, double stripe_period) {
+         const std::vector<Floats>& stripes, const std::vector<std::vector<double>>& hues, double stripe_period,
+         double stripe_strength) {
         ShadeLook look;
         look.light = vec3(light, "the light");
         look.base = vec3(base, "the base colour");
         look.background = vec3(background, "the background");
         if (!(stripe_period > 0)) throw InputError("shade: the stripe period must be positive");
         look.stripe_period = stripe_period;
+        if (!(stripe_strength >= 0 && stripe_strength <= 1)) throw InputError("shade: the stripe strength must be in [0, 1]");
+        look.stripe_strength = stripe_strength;
         const std::vector<Vec3> points = points_from(vertices, "shade: vertices");
         const std::vector<Vec3> vertex_normals = points_from(normals, "shade: normals");
         if (vertex_normals.size() != points.size()) throw InputError("shade: one normal per vertex is needed");
@@ -144,7 +149,7 @@ void bind_render(py::module_& m) {
       py::arg("triangle"), py::arg("bary"), py::arg("vertices"), py::arg("normals"), py::arg("triangles"),
       py::arg("light"), py::arg("base"), py::arg("background"), py::arg("tints") = py::none(),
       py::arg("stripes") = py::list(), py::arg("hues") = py::list(),
-      py::arg("stripe_period") = 1.0, "RGB per pixel of a raster (render/shade.h)");
+      py::arg("stripe_period") = 1.0, py::arg("stripe_strength") = 0.6, "RGB per pixel of a raster (render/shade.h)");
 }
 
 }  // namespace stripweave_python

@@ -35,7 +35,7 @@ std::vector<Vec3> shade(const Raster& raster, const std::vector<Vec3>& vertices,
       if (std::isnan(across)) continue;
       const double x = across / look.stripe_period + 0.5;
       const double phase = std::abs((x - std::floor(x)) - 0.5);  // 0 on a stripe line
-      const double line = std::clamp(1.6 - phase * 8.0, 0.0, 1.0) * 0.6;
+      const double line = std::clamp(1.6 - phase * 8.0, 0.0, 1.0) * look.stripe_strength;
       rgb = rgb * (1 - line) + s.hue * lambert * line;
     }
     out[p] = rgb;

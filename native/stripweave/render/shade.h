@@ -14,8 +14,10 @@
 //     average across it and would blur the edge a CAD user expects);
 //     the base colour, mixed 45:55 with the triangle's tint where it has one;
 //     per strip covering the triangle, a stripe line where the coordinate
-//     across is a multiple of the period (0.6 of the strip's hue, shaded,
-//     fading out over an eighth of a period);
+//     across is a multiple of the period (`stripe_strength`, by default 0.6,
+//     of the strip's hue, shaded, fading out over an eighth of a period; the
+//     preview dims them so the patch edges drawn over them stay the most
+//     visible thing);
 //     the background where no triangle is.
 // The numpy shader it replaces (the same arithmetic) took 1.3 to 2.4 s of a
 // weave run on 2048 x 1536 pixels.
@@ -37,6 +39,7 @@ struct ShadeLook {
   std::vector<Vec3> tint;                   // per triangle, or empty; NaN for none
   std::vector<ShadeStrip> strips;
   double stripe_period = 1.0;
+  double stripe_strength = 0.6;             // in [0, 1]: the stripe line's share of the colour
 };
 
 std::vector<Vec3> shade(const Raster& raster, const std::vector<Vec3>& vertices, const std::vector<Tri>& triangles,
