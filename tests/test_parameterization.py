@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 
 import stripweave as sw
+from field_rotation import assert_singularities_are_the_fields_rotation
 from models import box, sphere, torus
 from stripweave._native import native
 from stripweave.loops import LoopSession
@@ -309,6 +310,9 @@ def test_cube_cut_reaches_the_eight_corners(cube_case):
     surface, result = cube_case
     corners = {tuple(np.round(surface.vertices[s["vertex"]], 6)) for s in result["singularities"]}
     assert corners == {(x, y, z) for x in (0, 10) for y in (0, 10) for z in (0, 10)}
+    # Counted independently from the field's turns around each vertex: +1/4 at each corner.
+    count = assert_singularities_are_the_fields_rotation(surface, result["direction"], result["singularities"])
+    assert sorted(count.values()) == [1] * 8
     on_cut = np.asarray(result["on_cut"], bool)
     degree = np.bincount(surface.edges[on_cut].ravel(), minlength=len(surface.vertices))
     for s in result["singularities"]:

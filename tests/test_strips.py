@@ -9,7 +9,9 @@ import numpy as np
 import pytest
 
 import stripweave as sw
+from field_rotation import assert_singularities_are_the_fields_rotation
 from models import box, capped_cylinder, open_cylinder_shell, sphere, torus
+from stripweave._native import native
 from stripweave.design import Design
 from stripweave.strips import DesignSession
 
@@ -182,6 +184,12 @@ def test_poincare_hopf(make, strips):
     assert sum(s["index"] for s in ds.singularities()) == pytest.approx(euler_characteristic(surface), abs=1e-9)
     result = ds.strips_json()
     assert result["index_sum"] == pytest.approx(result["euler_characteristic"])
+    # The sums hold by construction of the native index: check each singularity (and each
+    # vertex not listed) against the rotation of the design's own field around its vertex.
+    field = native.design_field(ds.native)
+    assert field["singularities"] == ds.singularities()
+    count = assert_singularities_are_the_fields_rotation(surface, field["direction"], ds.singularities())
+    assert sum(count.values()) == 4 * euler_characteristic(surface)
 
 
 # --- editing and files ---------------------------------------------------------------------
