@@ -98,8 +98,17 @@ def test_loop_json_contract(torus_step):
     assert out["time_ms"] >= 0
     (loop,) = out["loops"]
     assert {"cost", "length", "closed", "points", "max_turn_deg"} <= set(loop)
-    assert loop["closed"] and loop["length"] == pytest.approx(2 * 3.141592653589793 * 3, rel=0.02)
-    assert len(loop["points"][0]) == 3
+    assert loop["closed"] and loop["length"] == pytest.approx(2 * math.pi * 3, rel=0.02)
+    # The points are the meridian through the anchor, in model units: on the torus (3 from
+    # its core circle), in the plane y = 0 of the anchor's direction, as long as reported.
+    p = np.asarray(loop["points"])
+    assert p.shape[1] == 3 and np.allclose(p[0], p[-1])
+    assert np.abs(np.hypot(np.hypot(p[:, 0], p[:, 1]) - 10, p[:, 2]) - 3).max() < 0.03  # a mesh chord sags 0.02
+    assert np.abs(p[:, 1]).max() < 0.3
+    assert np.linalg.norm(np.diff(p, axis=0), axis=1).sum() == pytest.approx(loop["length"], rel=1e-9)
+    assert np.linalg.norm(p - (13, 0, 0), axis=1).min() < 0.5
+    assert winding_numbers(p) in {(0, 1), (0, -1)}
+    assert 0 <= loop["max_turn_deg"] <= 30  # the default turn limit
 
 
 @pytest.fixture(scope="module")
