@@ -249,6 +249,7 @@ def test_torus_has_no_singularity_and_a_cut_of_two_cycles(torus_case):
     2g = 2 (two non-contractible cycles) without dangling branches."""
     surface, result = torus_case
     assert result["singularities"] == [] and list(result["cut_ends"]) == []
+    assert assert_singularities_are_the_fields_rotation(surface, result["direction"], result["singularities"]) == {}
     cut_edges = surface.edges[np.asarray(result["on_cut"], bool)]
     degree = np.bincount(cut_edges.ravel(), minlength=len(surface.vertices))
     assert not np.any(degree == 1)
@@ -355,8 +356,11 @@ def test_sphere_great_circles_are_isocurves(sphere_session):
     # Fold-overs: reported as S has them (few, next to the singularities).
     assert result["fold_overs"] == fold_overs(result) == int(np.sum(result["flipped"]))
     assert result["fold_overs"] <= 0.01 * len(surface.triangles)
-    # Eight octants, each with a +1/4 singularity.
+    # Eight octants, each with a +1/4 singularity (counted again from the field's turns).
     assert sorted(s["index"] for s in result["singularities"]) == [0.25] * 8
+    count = assert_singularities_are_the_fields_rotation(surface, result["direction"], result["singularities"])
+    octants = {tuple(np.sign(surface.vertices[v]).astype(int)) for v in count}
+    assert sorted(count.values()) == [1] * 8 and len(octants) == 8
 
 
 def test_loops_crossing_at_a_shallow_angle_are_rejected(sphere_session):
