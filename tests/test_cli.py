@@ -1,11 +1,14 @@
 """The `stripweave` launcher and its JSON contracts (design.md)."""
 import json
+import math
 import os
+import re
 import subprocess
 
+import numpy as np
 import pytest
 
-from models import box, torus
+from models import box, torus, winding_numbers
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 LAUNCHER = os.path.join(os.environ.get("STRIPWEAVE_BUILD", os.path.join(REPO, "build")), "stripweave")
@@ -95,14 +98,57 @@ def test_loop_json_contract(torus_step):
     assert out["time_ms"] >= 0
     (loop,) = out["loops"]
     assert {"cost", "length", "closed", "points", "max_turn_deg"} <= set(loop)
-    assert loop["closed"] and loop["length"] == pytest.approx(2 * 3.141592653589793 * 3, rel=0.02)
-    assert len(loop["points"][0]) == 3
+    assert loop["closed"] and loop["length"] == pytest.approx(2 * math.pi * 3, rel=0.02)
+    # The points are the meridian through the anchor, in model units: on the torus (3 from
+    # its core circle), in the plane y = 0 of the anchor's direction, as long as reported.
+    p = np.asarray(loop["points"])
+    assert p.shape[1] == 3 and np.allclose(p[0], p[-1])
+    assert np.abs(np.hypot(np.hypot(p[:, 0], p[:, 1]) - 10, p[:, 2]) - 3).max() < 0.03  # a mesh chord sags 0.02
+    assert np.abs(p[:, 1]).max() < 0.3
+    assert np.linalg.norm(np.diff(p, axis=0), axis=1).sum() == pytest.approx(loop["length"], rel=1e-9)
+    assert np.linalg.norm(p - (13, 0, 0), axis=1).min() < 0.5
+    assert winding_numbers(p) in {(0, 1), (0, -1)}
+    assert 0 <= loop["max_turn_deg"] <= 30  # the default turn limit
 
 
-def test_loop_alternatives_and_text(torus_step):
-    p = run("loop", torus_step, "--anchor", "13,0,0", "--alternatives", "3", "--target-triangles", "8000")
+@pytest.fixture(scope="module")
+def fat_torus_step(tmp_path_factory):
+    path = str(tmp_path_factory.mktemp("models") / "fat-torus.step")
+    torus(10, 4).exportStep(path)
+    return path
+
+
+TEXT_LOOP = re.compile(r"^(\d+)\. loop: length (\S+), cost (\S+) \(", re.M)
+
+
+def test_loop_alternatives_and_text(fat_torus_step):
+    """Three alternatives at a point of the inner equator of a torus (R 10, r 4): the meridian
+    (2 pi 4), the inner equator (2 pi 6) and a loop winding twice around the tube: three
+    homotopy classes, cheapest first, each through the anchor; the text lists the same three."""
+    anchor = (6, 0, 0)
+    args = ("loop", fat_torus_step, "--anchor", "6,0,0", "--alternatives", "3", "--target-triangles", "8000")
+    p = run(*args, "--json")
     assert p.returncode == 0, p.stderr
-    assert p.stdout.startswith("1. loop: length")
+    loops = json.loads(p.stdout)["loops"]
+    assert len(loops) == 3
+    costs = [l["cost"] for l in loops]
+    assert costs == sorted(costs) and len(set(costs)) == 3
+    classes = [tuple(map(abs, winding_numbers(l["points"]))) for l in loops]
+    assert classes == [(0, 1), (1, 0), (0, 2)]
+    assert loops[0]["length"] == pytest.approx(2 * math.pi * 4, rel=0.02)
+    assert loops[1]["length"] == pytest.approx(2 * math.pi * 6, rel=0.02)
+    for loop in loops:
+        points = np.asarray(loop["points"])
+        assert loop["closed"] and np.allclose(points[0], points[-1])
+        step = np.linalg.norm(np.diff(points, axis=0), axis=1).mean()
+        assert np.linalg.norm(points - anchor, axis=1).min() < step  # through the anchor's vertex
+
+    p = run(*args)
+    assert p.returncode == 0, p.stderr
+    listed = TEXT_LOOP.findall(p.stdout)
+    assert [int(n) for n, _, _ in listed] == [1, 2, 3]
+    assert [float(length) for _, length, _ in listed] == pytest.approx([l["length"] for l in loops], rel=1e-5)
+    assert [float(cost) for _, _, cost in listed] == pytest.approx(costs, rel=1e-3)
     assert "search took" in p.stdout
 
 

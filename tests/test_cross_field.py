@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 import stripweave as sw
+from field_rotation import assert_singularities_are_the_fields_rotation, rotation_indices
 from models import box, bumpy_sphere_mesh, capped_cylinder, filleted_box, open_cylinder_shell, sphere, torus
 from stripweave._native import native
 from stripweave.loops import LoopSession
@@ -55,8 +56,9 @@ def torus_design():
 
 
 def test_torus_meridian_field_has_no_singularity(torus_design):
-    _, _, _, field = torus_design
+    surface, _, _, field = torus_design
     assert field["singularities"] == []
+    assert assert_singularities_are_the_fields_rotation(surface, field["direction"], field["singularities"]) == {}
     assert field["index_sum"] == 0 == field["euler_characteristic"]
 
 
@@ -121,6 +123,8 @@ def test_torus_without_loops_follows_the_principal_directions():
     session = LoopSession(surface)
     field = native.cross_field(session.native, [])
     assert field["singularities"] == []
+    # The field's own rotation around every vertex: none anywhere.
+    assert assert_singularities_are_the_fields_rotation(surface, field["direction"], field["singularities"]) == {}
     assert not field["constrained"].any()
     c = centroids(surface)
     parallel = np.stack([-c[:, 1], c[:, 0], np.zeros(len(c))], axis=1)
@@ -144,6 +148,11 @@ def test_cube_has_a_quarter_singularity_at_each_corner(cube_design):
     surface, _, _, field = cube_design
     assert indices(field) == [0.25] * 8
     corners = np.array([(x, y, z) for x in (0, 10) for y in (0, 10) for z in (0, 10)], dtype=float)
+    # Counted independently, from the field's turns around each vertex: +1/4 exactly at the
+    # eight corner vertices (angle defect pi/2, the field aligned with the faces), 0 elsewhere.
+    count = assert_singularities_are_the_fields_rotation(surface, field["direction"], field["singularities"])
+    at_corner = np.linalg.norm(surface.vertices[:, None, :] - corners[None], axis=2).min(axis=1) < 1e-6
+    assert count == {int(v): 1 for v in np.flatnonzero(at_corner)} and at_corner.sum() == 8
     positions = np.array([s["position"] for s in field["singularities"]])
     distance = np.linalg.norm(positions[:, None, :] - corners[None, :, :], axis=2)
     tolerance = 0.01 * surface.bbox_diagonal
@@ -225,7 +234,11 @@ def test_indices_sum_to_the_euler_characteristic(name, make, anchors, chi):
     field = native.cross_field(session.native, loops_through(session, anchors))
     assert field["euler_characteristic"] == chi
     assert sum(s["index"] for s in field["singularities"]) == field["index_sum"] == chi
-    assert all(s["index"] != 0 and (4 * s["index"]).is_integer() for s in field["singularities"])
+    # The sum holds by construction of the native index; each index is checked against the
+    # field's own rotation around its vertex, and so is every vertex left out of the list.
+    count = assert_singularities_are_the_fields_rotation(surface, field["direction"], field["singularities"])
+    index, _ = rotation_indices(surface.vertices, surface.triangles, field["direction"])
+    assert sum(count.values()) == 4 * chi and index.sum() == pytest.approx(chi, abs=1e-9)
 
 
 def test_open_cylinder_shell_with_aligned_boundary_needs_no_singularity():
@@ -249,6 +262,8 @@ def test_organic_blob_with_two_loops_satisfies_poincare_hopf():
     assert field["euler_characteristic"] == 2
     assert field["index_sum"] == 2
     assert sum(s["index"] for s in field["singularities"]) == pytest.approx(2, abs=1e-9)
+    assert sum(assert_singularities_are_the_fields_rotation(surface, field["direction"],
+                                                            field["singularities"]).values()) == 8
     segments = [native.loop_segments(session.native, loop) for loop in loops]
     # Where the two loops cross, a triangle holds both directions: the field is aligned
     # with each loop everywhere else.

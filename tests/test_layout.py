@@ -273,12 +273,16 @@ def test_layout_cli_writes_layout_json(tmp_path):
     assert summary["valid"] and summary["summary"]["patches"] == 6
     L = json.loads((out / "layout.json").read_text())
     assert L["valid"] and len(L["patches"]) == 6 and len(L["vertices"]) == 8 and len(L["edges"]) == 12
-    for key in ("valence", "disc", "colour", "total_curvature"):
-        assert all(key in r for r in L["regions"])
-    for v in L["vertices"]:
-        assert set(("position", "valence", "boundary")) <= set(v)
+    # The file holds the layout itself, not only its keys: the structure of §7 (closed patch
+    # cycles, edges from vertex to vertex, Euler), the cube's corners and edges and faces.
+    check_layout(L)
+    assert all(r["disc"] and r["valence"] == 3 and r["colour"] == "none" for r in L["regions"])
+    assert sum(r["total_curvature"] for r in L["regions"]) == pytest.approx(4 * math.pi, abs=1e-6)
+    corners = {tuple(round(c) for c in v["position"]) for v in L["vertices"]}
+    assert corners == {(x, y, z) for x in (0, 10) for y in (0, 10) for z in (0, 10)}
+    assert all(v["valence"] == 3 and not v["boundary"] for v in L["vertices"])
     for e in L["edges"]:
-        assert len(e["points"][0]) == 3 and len(e["vertices"]) == 2
+        assert all(on_cube_edge(p, tol=0.1) for p in e["points"])
     for p in L["patches"]:
         assert len(p["edges"]) == 4 and p["area"] == pytest.approx(100, rel=0.02)
 

@@ -1,4 +1,5 @@
 """Elastica loops (paper §5): analytic checks in model units."""
+import heapq
 import math
 
 import numpy as np
@@ -17,6 +18,12 @@ def torus_session():
 @pytest.fixture(scope="module")
 def cube_session():
     return LoopSession(sw.from_shape(box(10)))
+
+
+@pytest.fixture(scope="module")
+def coarse_torus_session():
+    """A torus coarse enough (g': ~33k nodes) to search exhaustively in Python."""
+    return LoopSession(sw.from_shape(torus(10, 3), target_triangles=1000))
 
 
 def closed_length(loop):
@@ -58,12 +65,104 @@ def test_torus_another_direction_gives_another_homotopy_class(torus_session):
     assert around["length"] == pytest.approx(2 * math.pi * 13, rel=0.02)
 
 
-def test_two_anchors_in_order(torus_session):
-    anchors = [(13, 0, 0), (0, 13, 0)]
-    loop = torus_session.loops(anchors)[0]
+def shortest_distances(arcs, source, bound):
+    """Plain Dijkstra over g' from one node: {node: cost} of the nodes within `bound`."""
+    offsets, head, weight = arcs
+    dist, done, heap = {source: 0.0}, set(), [(0.0, source)]
+    while heap:
+        d, x = heapq.heappop(heap)
+        if x in done:
+            continue
+        done.add(x)
+        for a in range(offsets[x], offsets[x + 1]):
+            y, dy = head[a], d + weight[a]
+            if dy <= bound and dy < dist.get(y, math.inf):
+                dist[y] = dy
+                heapq.heappush(heap, (dy, y))
+    return dist
+
+
+def exhaustive_loop_cost(session, anchors, bound):
+    """The cheapest closed walk in g' from a candidate node of anchor 0 through a candidate of
+    each next anchor in turn and back to that same node (paper §5.4's minimum metagraph
+    cycle), every metaedge a Dijkstra of its own, combined in min-plus algebra over all
+    candidate choices. Walks costing more than `bound` count as unreachable (inf)."""
+    g = session.native.graph_arcs()
+    arcs = (g["offsets"].tolist(), g["head"].tolist(), g["weight"].tolist())
+    candidates = [session.native.anchor_candidates(list(a))[1] for a in anchors]
+    metaedges = []
+    for i, here in enumerate(candidates):
+        there = candidates[(i + 1) % len(anchors)]
+        rows = [shortest_distances(arcs, a, bound) for a in here]
+        metaedges.append(np.array([[row.get(b, math.inf) for b in there] for row in rows]))
+    through = metaedges[0]
+    for m in metaedges[1:]:
+        through = np.min(through[:, :, None] + m[None, :, :], axis=1)
+    return float(np.min(np.diag(through)))
+
+
+def chain_cost(session, nodes):
+    """The loop's cost summed again from g''s arcs along its closed node chain (inf if a step is no arc)."""
+    g = session.native.graph_arcs()
+    offsets, head, weight = g["offsets"], g["head"], g["weight"]
+    total = 0.0
+    for x, y in zip(nodes, nodes[1:] + nodes[:1]):
+        arc = np.flatnonzero(head[offsets[x]:offsets[x + 1]] == y)
+        if len(arc) == 0:
+            return math.inf
+        total += weight[offsets[x] + arc[0]]
+    return total
+
+
+def passes_in_order(loop, vertices):
+    """Read from its first pass through vertices[0], the closed loop's points hold the other
+    vertices as a subsequence, in order (a closed loop may start anywhere along itself)."""
+    visited = list(loop["mesh_vertex"])[:-1]  # the last point repeats the first
+    if vertices[0] not in visited:
+        return False
+    start = visited.index(vertices[0])
+    visited = visited[start:] + visited[:start]
+    at = 0
+    for v in vertices[1:]:
+        if v not in visited[at + 1:]:
+            return False
+        at = visited.index(v, at + 1)
+    return True
+
+
+@pytest.mark.parametrize("anchors", [
+    [(13, 0, 0), (0, 13, 0)],
+    [(13, 0, 0, 0, 0, 1), (0, 13, 0, 0, 0, 1)],  # both along meridians: the loop must turn between them
+])
+def test_two_anchors_in_order(coarse_torus_session, anchors):
+    """From anchor 1 the loop passes anchor 2, and no walk through both is cheaper: its cost
+    equals an exhaustive search of g' within 1e-9."""
+    session = coarse_torus_session
+    loop = session.loops(anchors)[0]
+    assert loop["closed"]
+    vertices = [session.native.anchor_candidates(list(a))[0] for a in anchors]
+    assert passes_in_order(loop, vertices)
     p = np.asarray(loop["points"])
+    assert np.allclose(p[0], loop["points"][-1])
     for a in anchors:
-        assert np.min(np.linalg.norm(p - np.array(a), axis=1)) < 0.6  # within a mesh edge or so
+        assert np.min(np.linalg.norm(p - np.array(a[:3]), axis=1)) < 1.5  # within a mesh edge (~1.3)
+    assert chain_cost(session, loop["nodes"]) == pytest.approx(loop["cost"], rel=1e-9)
+    assert exhaustive_loop_cost(session, anchors, loop["cost"] * (1 + 1e-6)) == pytest.approx(loop["cost"], rel=1e-9)
+
+
+def test_four_anchors_are_passed_in_their_order(coarse_torus_session):
+    """Around the outer equator in turn, or zig-zagging across the hole: each loop passes its
+    anchors in the order given, and the zig-zag costs more."""
+    session = coarse_torus_session
+    east, north, west, south = (13, 0, 0), (0, 13, 0), (-13, 0, 0), (0, -13, 0)
+    costs = []
+    for anchors in ([east, north, west, south], [east, west, north, south]):
+        loop = session.loops(anchors)[0]
+        vertices = [session.native.anchor_candidates(list(a))[0] for a in anchors]
+        assert passes_in_order(loop, vertices)
+        assert not passes_in_order(loop, vertices[:1] + vertices[:0:-1])  # not the other way round
+        costs.append(loop["cost"])
+    assert costs[1] > 1.2 * costs[0]
 
 
 def test_hover_is_exact_whatever_the_pruning(torus_session):

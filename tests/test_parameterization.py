@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 
 import stripweave as sw
+from field_rotation import assert_singularities_are_the_fields_rotation
 from models import box, sphere, torus
 from stripweave._native import native
 from stripweave.loops import LoopSession
@@ -248,6 +249,7 @@ def test_torus_has_no_singularity_and_a_cut_of_two_cycles(torus_case):
     2g = 2 (two non-contractible cycles) without dangling branches."""
     surface, result = torus_case
     assert result["singularities"] == [] and list(result["cut_ends"]) == []
+    assert assert_singularities_are_the_fields_rotation(surface, result["direction"], result["singularities"]) == {}
     cut_edges = surface.edges[np.asarray(result["on_cut"], bool)]
     degree = np.bincount(cut_edges.ravel(), minlength=len(surface.vertices))
     assert not np.any(degree == 1)
@@ -309,6 +311,9 @@ def test_cube_cut_reaches_the_eight_corners(cube_case):
     surface, result = cube_case
     corners = {tuple(np.round(surface.vertices[s["vertex"]], 6)) for s in result["singularities"]}
     assert corners == {(x, y, z) for x in (0, 10) for y in (0, 10) for z in (0, 10)}
+    # Counted independently from the field's turns around each vertex: +1/4 at each corner.
+    count = assert_singularities_are_the_fields_rotation(surface, result["direction"], result["singularities"])
+    assert sorted(count.values()) == [1] * 8
     on_cut = np.asarray(result["on_cut"], bool)
     degree = np.bincount(surface.edges[on_cut].ravel(), minlength=len(surface.vertices))
     for s in result["singularities"]:
@@ -351,8 +356,11 @@ def test_sphere_great_circles_are_isocurves(sphere_session):
     # Fold-overs: reported as S has them (few, next to the singularities).
     assert result["fold_overs"] == fold_overs(result) == int(np.sum(result["flipped"]))
     assert result["fold_overs"] <= 0.01 * len(surface.triangles)
-    # Eight octants, each with a +1/4 singularity.
+    # Eight octants, each with a +1/4 singularity (counted again from the field's turns).
     assert sorted(s["index"] for s in result["singularities"]) == [0.25] * 8
+    count = assert_singularities_are_the_fields_rotation(surface, result["direction"], result["singularities"])
+    octants = {tuple(np.sign(surface.vertices[v]).astype(int)) for v in count}
+    assert sorted(count.values()) == [1] * 8 and len(octants) == 8
 
 
 def test_loops_crossing_at_a_shallow_angle_are_rejected(sphere_session):

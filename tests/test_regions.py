@@ -429,9 +429,94 @@ def test_random_lines_in_general_position():
         assert all(g["disc"] for g in r["regions"])
 
 
+def check_line_cells(r, lines, clear=1e-3):
+    """The regions of chords of the square sheet are the cells of their arrangement.
+    Every sample point of a refined triangle at least `clear` from every line has a sign
+    vector (its side of each line); one region holds one sign vector and one sign vector one
+    region (slivers thinner than `clear`, where lines merge, are not judged). The areas add
+    up to the square's, each region's to its triangles'. Taking the arcs as runs of refined
+    vertices (chords merged into one run each give an arc of the arc list), a region's
+    valence is its number of sides along chords plus its runs along the sheet's boundary
+    (one, or two for a strip between chords that do not cross), and the cells of chords of a disc number
+    1 + runs - ends of runs inside (Euler: V - E + F = 1), the ends inside being the crossings."""
+    v, t, region = np.asarray(r["vertices"]), np.asarray(r["triangles"]), np.asarray(r["triangle_region"])
+    p = v[t][:, :, :2]
+    area = 0.5 * np.abs(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]))
+    assert sum(g["area"] for g in r["regions"]) == pytest.approx(100, rel=1e-9)
+    for k, g in enumerate(r["regions"]):
+        assert g["area"] == pytest.approx(area[region == k].sum(), rel=1e-9, abs=1e-12)
+    w = np.random.default_rng(0).dirichlet(np.ones(3), size=64)  # sample points of every triangle
+    c = np.einsum("sk,tkd->tsd", w, p).reshape(-1, 2)
+    sample_region = np.repeat(region, len(w))
+    side = []
+    for a, b in lines:
+        d = (b - a) / np.linalg.norm(b - a)
+        side.append((c - a) @ np.array([-d[1], d[0]]))
+    side = np.array(side).T
+    robust = np.all(np.abs(side) > clear, axis=1)
+    cell_region = {}
+    for key, k in zip(map(tuple, (side[robust] > 0).tolist()), sample_region[robust].tolist()):
+        assert cell_region.setdefault(key, k) == k  # a cell lies in one region ...
+    assert len(set(cell_region.values())) == len(cell_region)  # ... and a region holds one cell
+
+    edges = np.sort(np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), axis=1)
+    owner = np.tile(region, 3)
+    _, first, counts = np.unique(edges, axis=0, return_index=True, return_counts=True)
+    rim = first[counts == 1]  # the sheet's boundary edges
+    boundary_vertices = set(edges[rim].ravel().tolist())
+    rim_sides = [0] * len(r["regions"])  # runs of each region along the boundary: a path has V - E = 1
+    for k in range(len(r["regions"])):
+        mine = edges[rim[owner[rim] == k]]
+        rim_sides[k] = len(np.unique(mine)) - len(mine)
+    curves = {}  # each run of refined vertices once, whichever way: the chords along it, its regions
+    for arc in r["arc_list"]:
+        chain = tuple(arc["vertices"])
+        loops, sides = curves.setdefault(min(chain, chain[::-1]), (set(), set()))
+        loops.add(arc["loop"])
+        sides.update((arc["left"], arc["right"]))
+    for k, g in enumerate(r["regions"]):
+        mine = [(chain, loops) for chain, (loops, sides) in curves.items() if k in sides]
+        ends = {}
+        for chain, loops in mine:
+            for x in (chain[0], chain[-1]):
+                ends.setdefault(x, []).append(loops)
+        # Where two runs of its boundary meet, the cell has a corner unless a chord goes on
+        # through (a straight chord does not turn).
+        straight = sum(1 for at in ends.values() if len(at) == 2 and at[0] & at[1])
+        valence = len(mine) - straight + rim_sides[k]
+        assert g["disc"] and g["valence"] == valence
+        # Two sides at least. (A convex cell has 3 unless it reaches the boundary, but where
+        # a chord passes within the tolerance of a vertex another runs through, both are
+        # snapped onto it, and if they cross near there too the sliver between is a digon.)
+        assert g["valence"] >= 2
+    inside = {x for chain in curves for x in (chain[0], chain[-1])} - boundary_vertices
+    assert {x for x in r["crossing_vertices"] if x not in boundary_vertices} == inside
+    assert len(r["regions"]) == 1 + len(curves) - len(inside)
+
+
+@pytest.mark.parametrize("n", [1, 2, 3])
+def test_a_pencil_through_one_point_makes_a_wheel(n):
+    """k chords through one point (a vertex, on an edge or inside a triangle; displaced by up
+    to 1e-10, far below the merge tolerance) at well-separated angles: one crossing, 2k
+    arcs, 2k triangular regions (two sides along chords, one along the boundary)."""
+    coarse = sw.from_mesh(*grid_sheet(n), target_triangles=0)
+    rng = np.random.default_rng(5)
+    hubs = [(5, 5), (1.1, 1.1), (3.217, 6.135)] + ([(10 / n, 10 / n)] if n > 1 else [])  # vertex, edge, inside
+    for hub in hubs:
+        for k in (2, 3, 5):
+            angles = rng.uniform(0, math.pi) + np.arange(k) * math.pi / k + rng.uniform(-0.1, 0.1, k)
+            lines = [clipped_line(np.asarray(hub) + rng.choice([0.0, 1e-13, 1e-10]) * rng.normal(size=2), a)
+                     for a in angles]
+            r = sheet_regions(coarse, [trace(coarse, line) for line in lines])
+            assert (r["crossings"], r["arcs"], len(r["regions"])) == (1, 2 * k, 2 * k)
+            assert [g["valence"] for g in r["regions"]] == [3] * (2 * k)
+            check_line_cells(r, lines)
+
+
 def test_pencils_of_nearly_coincident_lines():
     """Lines through nearly one point (at, next to, or on a mesh edge or vertex) and at nearly one
-    angle: whatever merges, the refinement stays a manifold disc of discs."""
+    angle: whatever merges, the refinement stays a manifold disc of discs, and its regions
+    are the cells of the lines' arrangement (check_line_cells)."""
     rng = np.random.default_rng(11)
     tiny = [0.0, 1e-13, 1e-10, 1e-8, 1e-7, 1e-6, 1e-5]
     for n in (1, 2, 3):
@@ -447,7 +532,7 @@ def test_pencils_of_nearly_coincident_lines():
                                   angle + rng.choice([0.0, 1e-9, 1e-6, 1e-3, 0.7]) * rng.normal())
                      for _ in range(rng.integers(2, 6))]
             r = sheet_regions(coarse, [trace(coarse, line) for line in lines])
-            assert all(g["disc"] for g in r["regions"])
+            check_line_cells(r, lines)
 
 
 # --- input errors ---------------------------------------------------------------

@@ -9,7 +9,9 @@ import numpy as np
 import pytest
 
 import stripweave as sw
+from field_rotation import assert_singularities_are_the_fields_rotation
 from models import box, capped_cylinder, open_cylinder_shell, sphere, torus
+from stripweave._native import native
 from stripweave.design import Design
 from stripweave.strips import DesignSession
 
@@ -182,6 +184,12 @@ def test_poincare_hopf(make, strips):
     assert sum(s["index"] for s in ds.singularities()) == pytest.approx(euler_characteristic(surface), abs=1e-9)
     result = ds.strips_json()
     assert result["index_sum"] == pytest.approx(result["euler_characteristic"])
+    # The sums hold by construction of the native index: check each singularity (and each
+    # vertex not listed) against the rotation of the design's own field around its vertex.
+    field = native.design_field(ds.native)
+    assert field["singularities"] == ds.singularities()
+    count = assert_singularities_are_the_fields_rotation(surface, field["direction"], ds.singularities())
+    assert sum(count.values()) == 4 * euler_characteristic(surface)
 
 
 # --- editing and files ---------------------------------------------------------------------
@@ -235,9 +243,19 @@ def test_cli_strips_writes_strips_json(tmp_path):
     assert r.returncode == 0, r.stderr
     result = json.loads((out / "strips.json").read_text())
     assert len(result["strips"]) == 3
+    axes = set()
     for s in result["strips"]:
-        assert set(s) >= {"points", "width_left", "width_right", "area_fraction"}
+        # Each strip is a belt around the cube: its points on the surface, 40 long, planar
+        # across one axis, 5 wide on each side (to the corners' singularities).
+        p = np.asarray(s["points"])
+        assert np.all((p > -1e-9) & (p < 10 + 1e-9))
+        assert np.all(np.min(np.minimum(np.abs(p), np.abs(p - 10)), axis=1) < 1e-6)
+        assert np.linalg.norm(np.diff(p, axis=0), axis=1).sum() == pytest.approx(40, rel=0.02)
+        assert np.ptp(p, axis=0).min() < 0.5
+        axes.add(int(np.argmin(np.ptp(p, axis=0))))
+        assert s["width_left"] == pytest.approx(5, rel=0.03) and s["width_right"] == pytest.approx(5, rel=0.03)
         assert s["area_fraction"] == pytest.approx(2 / 3, rel=0.05)
+    assert axes == {0, 1, 2}  # three belts, one across each axis
     assert sorted(x["index"] for x in result["singularities"]) == [0.25] * 8
     assert "singularities: 8 of index +0.25" in r.stdout
 

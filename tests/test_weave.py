@@ -24,14 +24,6 @@ REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 CLI = os.path.join(os.environ.get("STRIPWEAVE_BUILD", os.path.join(REPO, "build")), "stripweave")
 
 
-def has_layout():
-    try:
-        from stripweave.layout import compute_layout  # noqa: F401
-        return True
-    except ImportError:
-        return False
-
-
 @pytest.fixture(scope="module")
 def cube():
     return sw.from_shape(box(10), target_triangles=8000)
@@ -75,9 +67,8 @@ def test_cube_weaves_into_three_belts(woven_cube):
     # Eight regions, one per corner. (A corner's field singularity can come split in two on a
     # coarse mesh, which §4.2 flags orange; the layout is the same.)
     assert report["regions"]["red"] == 0 and sum(report["regions"].values()) == 8
-    if has_layout():
-        assert report["patches"] == 6
-        assert report["irregular_vertices"] == {"3": 8}
+    assert report["patches"] == 6
+    assert report["irregular_vertices"] == {"3": 8}
 
 
 def test_woven_cube_has_square_corners(woven_cube):
@@ -166,8 +157,11 @@ def test_torus_gives_a_valid_layout():
     report = sw.weave(surface)
     assert report["valid"] and report["regions"]["red"] == 0
     assert report["strips"] >= 2   # a handle needs a meridian and a longitude
-    if has_layout():
-        assert report["patches"] >= 1
+    # A vertex per region, a quad patch per crossing: on a torus (chi = 0) a quad layout has
+    # E = 2F, so V - E + F = 0 gives as many patches as regions, and its valences balance
+    # (sum of 4 - valence = 4 chi = 0).
+    assert report["patches"] == sum(report["regions"].values()) >= 1
+    assert sum((4 - int(v)) * n for v, n in report["irregular_vertices"].items()) == 0
 
 
 def test_partial_design_is_kept_and_completed(cube):
@@ -180,8 +174,7 @@ def test_partial_design_is_kept_and_completed(cube):
     assert "added_by" not in design.strips[0].extra
     assert report["valid"] and report["strips"] == 3
     assert sum(report["regions"].values()) == 8
-    if has_layout():
-        assert report["patches"] == 6
+    assert report["patches"] == 6
     assert user.to_dict()["strips"][0]["anchors"] == before and len(user.strips) == 1  # the input is untouched
 
 
@@ -208,12 +201,11 @@ def test_report_agrees_with_layout(woven_cube):
     assert on_disk["regions"] == colours
     assert on_disk["bbox_diagonal"] == pytest.approx(10 * np.sqrt(3), rel=1e-6)
     assert on_disk["strips"] == len(Design.load(out / "design.json").strips)
-    if has_layout():
-        valence = {}
-        for v in layout["vertices"]:
-            if v["valence"] != 4 and not v["boundary"]:
-                valence[str(v["valence"])] = valence.get(str(v["valence"]), 0) + 1
-        assert on_disk["irregular_vertices"] == valence
+    valence = {}
+    for v in layout["vertices"]:
+        if v["valence"] != 4 and not v["boundary"]:
+            valence[str(v["valence"])] = valence.get(str(v["valence"]), 0) + 1
+    assert on_disk["irregular_vertices"] == valence
 
 
 def test_design_file_reloads_to_the_same_layout(woven_cube, cube):

@@ -16,6 +16,10 @@
 //     solve_ms            the field computation's time
 //   The computation releases the GIL.
 //
+// design_field(state) -> dict
+//   The cross field a DesignState holds (its strips' loops, its options), with
+//   the keys of cross_field(); nothing is recomputed.
+//
 // loop_segments(session, loop) -> dict
 //   The loop's pieces per triangle (path_segments.h): "triangle" (K,),
 //   "from", "to" (K,) indices into the embedded path's points, "direction"
@@ -24,6 +28,7 @@
 
 #include "stripweave/elastica/loop_session.h"
 #include "stripweave/strips/cross_field.h"
+#include "stripweave/strips/design_state.h"
 
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
@@ -129,6 +134,9 @@ void bind_field(py::module_& m) {
       py::arg("curvature") = FieldOptions().curvature,
       "The 4-RoSy cross field aligned with the loops (and with feature curves and open boundaries if asked), "
       "paper §6.1; positions in model units");
+
+  m.def("design_field", [](const DesignState& d) { return field_dict(d.surface(), d.field()); }, py::arg("state"),
+        "The cross field of a DesignState as cross_field() gives it (paper §6.1); model units");
 }
 
 }  // namespace stripweave_python

@@ -152,6 +152,25 @@ void bind_loops(py::module_& m) {
       .def("node_vertices", [](const LoopSession& s, Index node) {
         return py::make_tuple(s.graph().tail.at(node), s.graph().head.at(node));
       })
+      // g' as it is stored (CSR), for tests that search it independently:
+      // node i's arcs are offsets[i]..offsets[i+1] into head and weight (w(e')
+      // of eq. (2), the loop cost being their sum along the node chain).
+      .def("graph_arcs", [](const LoopSession& s) {
+        const ElasticaGraph& g = s.graph();
+        py::array_t<std::int64_t> offsets(static_cast<py::ssize_t>(g.arc_offsets.size()));
+        py::array_t<std::int64_t> head(static_cast<py::ssize_t>(g.num_arcs()));
+        py::array_t<double> weight(static_cast<py::ssize_t>(g.num_arcs()));
+        auto o = offsets.mutable_unchecked<1>();
+        auto h = head.mutable_unchecked<1>();
+        auto w = weight.mutable_unchecked<1>();
+        for (size_t i = 0; i < g.arc_offsets.size(); ++i) o(i) = g.arc_offsets[i];
+        for (Index a = 0; a < g.num_arcs(); ++a) h(a) = g.arc_head[a], w(a) = g.arc_weight[a];
+        py::dict d;
+        d["offsets"] = offsets;
+        d["head"] = head;
+        d["weight"] = weight;
+        return d;
+      })
       .def("set_threads", &LoopSession::set_threads, py::arg("threads"),
            "threads a query may use (default: two, one per core)")
       .def_property_readonly("threads", &LoopSession::threads, "threads a query may use")
