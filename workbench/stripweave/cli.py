@@ -13,6 +13,10 @@
                     [--time-limit S]
                                          the main job: (automatic) design, layout, report, preview.png
     stripweave bench MODEL [--repeat N] [--no-refit]  stage timings and sizes (refit_s too), JSON
+    stripweave batch MODEL_OR_DIR... --out OUT [--step] [--jobs N] [--time-limit S] [--memory-limit MB]
+                    [--scheduler ADDRESS] [--target-triangles N] [--budget UNITS] ...
+                                         weave every model, one process each -> OUT/summary.json, .md,
+                                         index.html (batch.py)
 
 MODEL is STEP/STP, IGES/IGS, BREP/BRP, STL, OBJ, OFF, PLY, or an FCStd with
 one shape or mesh. Bad input ends with a one-line error and exit status 1.
@@ -201,6 +205,31 @@ def cmd_weave(args):
     return 0
 
 
+def cmd_batch(args):
+    from .batch import run_batch
+    weave_args = ["--target-triangles", str(args.target_triangles), "--budget", f"{args.budget:g}",
+                  "--max-strips", str(args.max_strips), "--patches", str(args.patches), "--seed", str(args.seed)]
+    if args.weave_time_limit is not None:
+        weave_args += ["--time-limit", f"{args.weave_time_limit:g}"]
+    if args.feature_angle is not None:
+        weave_args += ["--feature-angle", f"{args.feature_angle:g}"]
+    if args.boundary is not None:
+        weave_args += ["--boundary", args.boundary]
+    if args.no_features:
+        weave_args.append("--no-features")
+    try:
+        summary = run_batch(args.models, args.out, step=args.step, jobs=args.jobs, time_limit_s=args.time_limit,
+                            memory_limit_mb=args.memory_limit, scheduler=args.scheduler, weave_args=weave_args)
+    except KeyboardInterrupt:
+        print(f"stripweave: interrupted; the running jobs were killed, {args.out}/summary.* hold the models "
+              "finished", file=sys.stderr)
+        return 130
+    from .batch_report import totals
+    print(totals(summary["models"]))
+    print(f"wrote {args.out}/summary.json, summary.md, index.html")
+    return 0
+
+
 def _input_error(text):
     from ._native import native
     return native.InputError(text)
@@ -272,6 +301,36 @@ def build_parser():
     p.add_argument("--json", action="store_true", help="print report.json's content (plus paths) on stdout")
     _add_surface_options(p)
     p.set_defaults(run=cmd_weave)
+
+    p = sub.add_parser("batch", help="weave every model of files and folders, one process per model, and "
+                                     "write OUT/summary.json, summary.md and index.html")
+    p.add_argument("models", nargs="+", metavar="MODEL_OR_DIR",
+                   help="model files, and folders searched recursively for model files")
+    p.add_argument("--out", metavar="OUT", required=True, help="folder for OUT/<model>/ and the summaries")
+    p.add_argument("--step", action="store_true", help="also fit NURBS patches (patches.step, deviation.png)")
+    p.add_argument("--jobs", type=int, default=1, metavar="N",
+                   help="models woven at once on this machine (default 1: each model's time and memory are "
+                        "then those of one job alone, comparable with `bench`; use the core count for speed)")
+    p.add_argument("--time-limit", type=float, default=600.0, metavar="S",
+                   help="seconds per model, after which its processes are killed: status timeout "
+                        "(default 600; 0: none)")
+    p.add_argument("--memory-limit", type=float, default=0.0, metavar="MB",
+                   help="resident memory per model (its process tree), above which it is killed: status error "
+                        "(default 0: none)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="run the jobs on the Dask distributed cluster at ADDRESS (e.g. tcp://host:8786; its "
+                        "workers must see the same paths) instead of locally")
+    p.add_argument("--weave-time-limit", type=float, default=None, metavar="S",
+                   help="weave's --time-limit (its wall-clock safety net for weaving)")
+    p.add_argument("--budget", type=float, default=WeaveOptions.budget, metavar="UNITS", help="weave's --budget")
+    p.add_argument("--max-strips", type=int, default=40, help="weave's --max-strips")
+    p.add_argument("--patches", type=int, default=0, metavar="N", help="weave's --patches")
+    p.add_argument("--no-features", action="store_true", help="weave's --no-features")
+    p.add_argument("--boundary", choices=("aligned", "trimmed"), default=None, help="weave's --boundary")
+    p.add_argument("--seed", type=int, default=0, help="weave's --seed")
+    p.add_argument("--target-triangles", type=int, default=30000, help="size of the solver mesh (weave's)")
+    p.add_argument("--feature-angle", type=float, default=None, help="weave's --feature-angle")
+    p.set_defaults(run=cmd_batch)
 
     p = sub.add_parser("bench", help="time every pipeline stage (JSON)")
     p.add_argument("model")

@@ -10,7 +10,8 @@ re-derived) -> weave (automatic completion, weave.py) -> layout (regions and the
 quad layout, layout.compute_layout) -> files. With `out`, writes
     design.json   the design (reloads; hand-editable; auto-added strips say why in "added_by")
     layout.json   regions, vertices, edges, patches (design.md)
-    report.json   exactly the keys of design.md
+    report.json   the keys of design.md, and input_triangles, solver_triangles and
+                  corner_deviation_deg["p95"] (README)
     preview.png   the layout on the shaded model (preview.py)
     patches.step  with step=True, when the build has the surfacing stage
     deviation.png with step=True: the patches coloured by their fit's deviation (preview.py)
@@ -86,9 +87,32 @@ def make_report(ds, layout, timings_ms):
     return {"valid": bool(layout["valid"]), "clean": bool(layout.get("clean", False)), "defects": defects,
             "strips": len(ds.design.strips), "patches": len(layout["patches"]),
             "regions": colours, "irregular_vertices": irregular,
-            "corner_deviation_deg": {"mean": float(deviation["mean"]), "max": float(deviation["max"])},
+            "corner_deviation_deg": {"mean": float(deviation["mean"]), "max": float(deviation["max"]),
+                                     "p95": _corner_deviation_p95(layout)},
+            "input_triangles": int(ds.surface.input_triangles), "solver_triangles": len(ds.surface.triangles),
             "bbox_diagonal": float(ds.design.model.get("bbox_diagonal") or ds.surface.report()["bbox_diagonal"]),
             "timings_ms": {k: round(float(v), 1) for k, v in timings_ms.items()}}
+
+
+def _corner_deviation_p95(layout):
+    """The 95th percentile of |angle - 90| over the quad patches' corners (layout.json's
+    corner_angles_deg; non-quads have none, as in the mean): a few bad corners that the
+    mean averages away show here. 0 without quads."""
+    deviations = sorted(abs(a - 90.0) for p in layout["patches"] for a in p.get("corner_angles_deg", ()))
+    if not deviations:
+        return 0.0
+    rank = 0.95 * (len(deviations) - 1)   # linear interpolation between order statistics
+    low = int(rank)
+    high = min(low + 1, len(deviations) - 1)
+    return float(deviations[low] + (rank - low) * (deviations[high] - deviations[low]))
+
+
+def peak_memory_mb():
+    """Peak resident memory of this process (plus its children's, if it had any), in MB:
+    what the weave needed at its heaviest (Linux reports ru_maxrss in kB)."""
+    import resource
+    kb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss + resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+    return round(kb / 1024.0, 1)
 
 
 def _export_step(ds, tolerance, path):
@@ -201,6 +225,7 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
     timings.update({f"layout_{k}": v for k, v in layout.get("timings_ms", {}).items()})
     timings["total"] = sum(v for k, v in timings.items() if "_" not in k)
     report["timings_ms"] = {k: round(float(v), 1) for k, v in timings.items()}
+    report["peak_memory_mb"] = peak_memory_mb()
     if out is not None:
         with open(paths["report"], "w", encoding="utf-8") as f:
             json.dump(report, f, indent=2)
