@@ -187,6 +187,8 @@ def test_an_invalid_design_leaves_every_surface_triangle_uncovered():
     assert L["defects"]["uncovered_triangles"] == n > 0
     (x,) = locations(L, "uncovered")        # the torus is one piece
     assert x["triangles"] == n
+    text = format_defects(L["clean"], L["defects"], L["defect_locations"])
+    assert text.startswith("NOT clean") and f"{n} surface triangles in no patch or in two at (" in text
     report = make_report(ds, L, {})
     assert not report["valid"] and not report["clean"] and report["defects"]["uncovered_triangles"] == n
 

@@ -45,7 +45,7 @@ DEFECT_WORDS = {
     "high_valence_vertices": ("high_valence", "vertex of valence above 6 that no part corner forces",
                               "vertices of valence above 6 that no part corner forces"),
     "creased_patches": ("creased", "patch over a crease", "patches over a crease"),
-    "degenerate_patches": ("degenerate", "degenerate patch (tiny or thin)", "degenerate patches (tiny or thin)"),
+    "degenerate_patches": ("degenerate", "degenerate (tiny or thin) patch", "degenerate (tiny or thin) patches"),
     "uncovered_triangles": ("uncovered", "surface triangle in no patch or in two",
                             "surface triangles in no patch or in two"),
 }
@@ -86,10 +86,14 @@ def format_defects(clean, defects, locations, first=3):
         if not n:
             continue
         kind, one, many = DEFECT_WORDS[key]
-        where = [_point(loc["position"]) for loc in locations if loc["kind"] == kind][:first]
+        located = [_point(loc["position"]) for loc in locations if loc["kind"] == kind]
+        where = located[:first]
         at = ""
-        if where:
-            at = f" at {where[0]}" if n == 1 and len(where) == 1 else " (first at " + ", ".join(where) + ")"
+        if len(located) == 1:
+            at = f" at {where[0]}"
+        elif located:   # uncovered triangles are located per piece, overlaps per pair
+            places = f" in {len(located)} places" if len(located) != n else ""
+            at = f"{places} (first at " + ", ".join(where) + ")"
         parts.append(f"{n} {one if n == 1 else many}{at}")
     return "NOT clean; defects: " + ("; ".join(parts) if parts else "none (the layout is not valid)")
 
