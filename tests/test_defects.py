@@ -117,6 +117,33 @@ def test_sphere_cut_by_two_great_circles_has_four_valence_two_vertices():
     assert all(v["defects"] == ["valence2"] for v in L["vertices"])
 
 
+def test_a_heptagon_region_gives_a_high_valence_vertex():
+    """Seven straight curves tangent to a circle of radius 2 round the sheet's centre bound a
+    heptagonal region: its vertex has 7 edges, and no corner of the (flat) part forces them."""
+    session = LoopSession(sw.from_shape(Part.makePlane(10, 10), target_triangles=8000), boundary="trimmed")
+    anchors = [(5 + 2 * math.cos(a), 5 + 2 * math.sin(a), 0, -math.sin(a), math.cos(a), 0)
+               for a in (2 * math.pi * k / 7 for k in range(7))]
+    L = loops_layout(session, anchors)
+    high = [i for i, v in enumerate(L["vertices"]) if v["valence"] > 6]
+    assert len(high) == 1 and L["vertices"][high[0]]["valence"] == 7
+    assert L["defects"]["high_valence_vertices"] == 1 and not L["clean"]
+    assert "high_valence" in L["vertices"][high[0]]["defects"]
+    (x,) = locations(L, "high_valence")
+    assert x["vertex"] == high[0] and np.linalg.norm(np.subtract(x["position"], (5, 5, 0))) < 1.0
+
+
+def test_valences_a_part_corner_forces_are_no_defect(sheet, cube_layout):
+    """A sheet cut by one curve each way has one patch whose corners are the sheet's: valence
+    2 there is the part's, not the layout's. The cube's vertices sit at its corners, where
+    three creases meet: they may have 3 edges, and more than 6 only if more creases met."""
+    L = loops_layout(sheet, [(5, 3, 0, 1, 0, 0), (3, 5, 0, 0, 1, 0)])
+    assert [v["valence"] for v in L["vertices"]] == [2] * 4
+    assert all(v["forced_valence"] == 2 and v["defects"] == [] for v in L["vertices"])
+    assert L["clean"] and L["defects"]["valence2_vertices"] == 0
+    _, cube = cube_layout
+    assert [(v["placement"], v["forced_valence"]) for v in cube["vertices"]] == [("corner", 3)] * 8
+
+
 def test_one_vertex_torus_patch_is_not_a_quad():
     """The torus's meridian and equator give one patch whose four corners are one vertex: four
     sides, but no four-cornered patch to fit."""
