@@ -76,8 +76,9 @@ def _crease_conforming(raw):
 
 
 def format_defects(clean, defects, locations, first=3):
-    """'clean', or 'NOT clean; defects: 3 patches without 4 corners (first at (..), ..), ...':
-    each kind counted in words, with the model-unit locations of its first few."""
+    """'clean: ...', or 'NOT clean; defects:' and a line per kind, e.g. '  3 patches without 4
+    corners (first at (..), ..)': counted in words, with the model-unit locations of the first
+    few."""
     if clean:
         return "clean: no layout defects"
     parts = []
@@ -87,7 +88,7 @@ def format_defects(clean, defects, locations, first=3):
             continue
         kind, one, many = DEFECT_WORDS[key]
         located = [_point(loc["position"]) for loc in locations if loc["kind"] == kind]
-        where = located[:first]
+        where = list(dict.fromkeys(located))[:first]   # pairs of edges often touch at one point
         at = ""
         if len(located) == 1:
             at = f" at {where[0]}"
@@ -95,7 +96,9 @@ def format_defects(clean, defects, locations, first=3):
             places = f" in {len(located)} places" if len(located) != n else ""
             at = f"{places} (first at " + ", ".join(where) + ")"
         parts.append(f"{n} {one if n == 1 else many}{at}")
-    return "NOT clean; defects: " + ("; ".join(parts) if parts else "none (the layout is not valid)")
+    if not parts:
+        return "NOT clean: the layout is not valid"
+    return "NOT clean; defects:\n" + "\n".join("  " + p for p in parts)
 
 
 def _region(r):
