@@ -201,8 +201,8 @@ def test_patches_over_a_crease_are_counted():
     for x in locations(halves, "creased"):
         r = math.hypot(x["position"][0], x["position"][1])
         assert r <= 5 + 1e-6 and -1e-6 <= x["position"][2] <= 20 + 1e-6   # on the part
-    boxed = compute_layout(DesignSession(sw.from_shape(shape, target_triangles=8000),
-                                         Design([[(5, 0, 10, 0, 1, 0)], [(-5, 0, 10, 0, 0, 1)], [(0, 5, 10, 0, 0, 1)]])))
+    box_like = Design([[(5, 0, 10, 0, 1, 0)], [(-5, 0, 10, 0, 0, 1)], [(0, 5, 10, 0, 0, 1)]])
+    boxed = compute_layout(DesignSession(sw.from_shape(shape, target_triangles=8000), box_like))
     assert boxed["defects"]["creased_patches"] == 0
 
 

@@ -78,7 +78,8 @@ struct Checker {
       const PrimalPatch& patch = L.patches[p];
       std::vector<Index> corners(patch.corners.begin(), patch.corners.end());
       std::sort(corners.begin(), corners.end());
-      const bool distinct = corners.front() != kInvalid && std::adjacent_find(corners.begin(), corners.end()) == corners.end();
+      const bool distinct =
+          corners.front() != kInvalid && std::adjacent_find(corners.begin(), corners.end()) == corners.end();
       if (!patch.quad || !distinct) patch_kind(static_cast<Index>(p), DefectKind::NonQuad, out.non_quad_patches);
       if (patch.creased()) patch_kind(static_cast<Index>(p), DefectKind::Creased, out.creased_patches);
     }
@@ -154,9 +155,13 @@ struct Checker {
       const int forced = out.vertex_forced_valence[v];
       DefectKind kind;
       Index* count;
-      if (pv.valence == 2 && forced < 2) kind = DefectKind::Valence2, count = &out.valence2_vertices;
-      else if (pv.valence > std::max(kMaxFreeValence, forced)) kind = DefectKind::HighValence, count = &out.high_valence_vertices;
-      else continue;
+      if (pv.valence == 2 && forced < 2) {
+        kind = DefectKind::Valence2, count = &out.valence2_vertices;
+      } else if (pv.valence > std::max(kMaxFreeValence, forced)) {
+        kind = DefectKind::HighValence, count = &out.high_valence_vertices;
+      } else {
+        continue;
+      }
       ++*count;
       out.vertex_defects[v].push_back(kind);
       add(kind, pv.position, kInvalid, static_cast<Index>(v));
@@ -268,7 +273,8 @@ LayoutDefects find_layout_defects(const Surface& s, const LoopArrangement& A, co
   out.patch_defects.resize(L.patches.size());
   out.vertex_defects.resize(L.vertices.size());
   out.edge_defects.resize(L.edges.size());
-  const std::vector<std::uint8_t> computed = crease.empty() && !L.vertices.empty() ? creases_of(s) : std::vector<std::uint8_t>();
+  const std::vector<std::uint8_t> computed =
+      crease.empty() && !L.vertices.empty() ? creases_of(s) : std::vector<std::uint8_t>();
   Checker c{s, A, L, crease.empty() ? computed : crease, out};
   c.check_patch_shapes();
   c.check_overlaps();

@@ -73,7 +73,9 @@ constexpr double kDegenerateArea = 1e-4;   // of the surface's area
 constexpr double kDegenerateRadius = 2.0;  // mean solver edge lengths
 constexpr int kMaxFreeValence = 6;
 
-enum class DefectKind : std::uint8_t { NonQuad, OverlappingEdges, Valence2, HighValence, Creased, Degenerate, Uncovered };
+enum class DefectKind : std::uint8_t {
+  NonQuad, OverlappingEdges, Valence2, HighValence, Creased, Degenerate, Uncovered
+};
 
 // "non_quad", "overlapping_edges", "valence2", "high_valence", "creased",
 // "degenerate", "uncovered".
