@@ -22,7 +22,21 @@
 //                  vertices of valence != 4), "boundary_vertices": {valence:
 //                  n}, "corner_deviation_deg": {"mean", "max"} (|angle - 90|
 //                  over the patch corners), "euler": {"V", "E", "F", "chi"}}
+//                  Vertices, edges and patches also have "defects": the
+//                  kinds of layout_defects.h they show (vertices:
+//                  valence2|high_valence, edges: overlapping_edges,
+//                  patches: non_quad|overlapping_edges|creased|degenerate);
+//                  vertices "forced_valence" (the edges a part corner
+//                  there forces, 0 elsewhere), patches "inradius".
 //     problems   what keeps the embedding from a clean quad layout
+//     defects    the strict checks' counts: {"non_quad_patches",
+//                  "overlapping_edges", "valence2_vertices",
+//                  "high_valence_vertices", "creased_patches",
+//                  "degenerate_patches", "uncovered_triangles"} (also of an
+//                  invalid design: all its surface triangles uncovered)
+//     defect_locations  [{"kind", "position" (model units), and "patch",
+//                  "vertex", "edges" (the touching pair) or "triangles"
+//                  (the uncovered piece's surface triangles)}]
 //     layout_ms  primalization alone
 //   For an invalid design (a red region) vertices, edges and patches are
 //   empty. With details=True also patch_of_triangle (per refined triangle,
@@ -66,6 +80,39 @@ const char* placement_name(VertexPlacement p) {
     case VertexPlacement::Centre: return "centre";
   }
   return "centre";
+}
+
+std::vector<std::string> kind_names(const std::vector<DefectKind>& kinds) {
+  std::vector<std::string> out;
+  for (DefectKind k : kinds) out.push_back(defect_name(k));
+  return out;
+}
+
+py::dict defect_counts(const LayoutDefects& D) {
+  py::dict d;
+  d["non_quad_patches"] = D.non_quad_patches;
+  d["overlapping_edges"] = D.overlapping_edges;
+  d["valence2_vertices"] = D.valence2_vertices;
+  d["high_valence_vertices"] = D.high_valence_vertices;
+  d["creased_patches"] = D.creased_patches;
+  d["degenerate_patches"] = D.degenerate_patches;
+  d["uncovered_triangles"] = D.uncovered_triangles;
+  return d;
+}
+
+py::list defect_locations(const LayoutDefects& D) {
+  py::list out;
+  for (const DefectLocation& x : D.locations) {
+    py::dict d;
+    d["kind"] = defect_name(x.kind);
+    d["position"] = std::vector<double>{x.position.x(), x.position.y(), x.position.z()};
+    if (x.patch != kInvalid) d["patch"] = x.patch;
+    if (x.vertex != kInvalid) d["vertex"] = x.vertex;
+    if (x.edge != kInvalid) d["edges"] = std::vector<Index>{x.edge, x.other_edge};
+    if (x.kind == DefectKind::Uncovered) d["triangles"] = x.triangles;
+    out.append(d);
+  }
+  return out;
 }
 
 py::array_t<double> points_array(const std::vector<Vec3>& points) {
@@ -123,6 +170,8 @@ py::dict layout_dict(const Surface& s, const std::vector<Singularity>& singular,
     d["placement"] = placement_name(v.placement);
     d["clearance"] = v.clearance * sim.scale;
     d["inradius"] = v.inradius * sim.scale;
+    d["defects"] = kind_names(L.defects.vertex_defects[vertices.size()]);
+    d["forced_valence"] = L.defects.vertex_forced_valence[vertices.size()];
     vertices.append(d);
     if (v.boundary) ++boundary_valence[v.valence];
     else if (v.valence != 4) ++irregular[v.valence];
@@ -139,6 +188,7 @@ py::dict layout_dict(const Surface& s, const std::vector<Singularity>& singular,
     d["sharp"] = e.sharp;
     d["boundary"] = e.boundary;
     d["length"] = e.length * sim.scale;
+    d["defects"] = kind_names(L.defects.edge_defects[edges.size()]);
     edges.append(d);
   }
   py::list patches;
@@ -164,6 +214,8 @@ py::dict layout_dict(const Surface& s, const std::vector<Singularity>& singular,
     d["quad"] = p.quad;
     d["crease_length"] = p.crease_length * sim.scale;
     d["creased"] = p.creased();
+    d["inradius"] = L.defects.patch_inradius[patches.size()] * sim.scale;
+    d["defects"] = kind_names(L.defects.patch_defects[patches.size()]);
     patches.append(d);
   }
   auto counts = [](const std::map<int, int>& m) {
@@ -188,6 +240,8 @@ py::dict layout_dict(const Surface& s, const std::vector<Singularity>& singular,
   out["patches"] = patches;
   out["summary"] = summary;
   out["problems"] = L.problems;
+  out["defects"] = defect_counts(L.defects);
+  out["defect_locations"] = defect_locations(L.defects);
   out["layout_ms"] = dl.layout_ms;
   if (details) out["patch_of_triangle"] = L.triangle_patch;
   return out;

@@ -151,7 +151,8 @@ def cmd_layout(args):
         colours = {}
         for r in result["regions"]:
             colours[r["colour"]] = colours.get(r["colour"], 0) + 1
-        print(json.dumps({"valid": result["valid"], "regions": colours, "summary": result["summary"],
+        print(json.dumps({"valid": result["valid"], "clean": result["clean"], "defects": result["defects"],
+                          "regions": colours, "summary": result["summary"],
                           "problems": result["problems"], "timings_ms": result["timings_ms"], "path": path}))
     else:
         print(format_summary(result))
@@ -186,6 +187,9 @@ def cmd_weave(args):
           f"fine {c['none']}")
     print(f"irregular vertices: {irregular}; corner deviation mean "
           f"{result['corner_deviation_deg']['mean']:.1f} deg, max {result['corner_deviation_deg']['max']:.1f} deg")
+    if "defects" in result:
+        from .layout import format_defects
+        print(format_defects(result["clean"], result["defects"], result["defect_locations"]))
     for entry in result["log"]:
         print(f"  strip {entry['strip'] + 1}: for the {entry['reason']}"
               f"{'' if entry['region'] < 0 else ' ' + str(entry['region'])} at "

@@ -16,7 +16,8 @@ quad layout, layout.compute_layout) -> files. With `out`, writes
     patches.step  with step=True, when the build has the surfacing stage
     deviation.png with step=True: the patches coloured by their fit's deviation (preview.py)
 The returned dict is report.json's content plus "paths", "log" (one entry per added
-strip), "stopped" (why weaving ended), "work" (units spent, weave.py) and
+strip), "stopped" (why weaving ended), "work" (units spent, weave.py),
+"defect_locations" (layout.json's, for the CLI to say where) and
 "cancelled_queries" (loop queries cut by the timeout: the only machine-dependent step
 besides the wall-clock safety net).
 """
@@ -81,7 +82,10 @@ def make_report(ds, layout, timings_ms):
     irregular = {str(k): int(v) for k, v in sorted(summary.get("irregular_vertices", {}).items(),
                                                     key=lambda kv: int(kv[0]))}
     deviation = summary.get("corner_deviation_deg", {"mean": 0.0, "max": 0.0})
-    return {"valid": bool(layout["valid"]), "strips": len(ds.design.strips), "patches": len(layout["patches"]),
+    # The strict checks (layout.json's; a build without the layout stage has none: not clean).
+    defects = {k: int(v) for k, v in layout.get("defects", {}).items()}
+    return {"valid": bool(layout["valid"]), "clean": bool(layout.get("clean", False)), "defects": defects,
+            "strips": len(ds.design.strips), "patches": len(layout["patches"]),
             "regions": colours, "irregular_vertices": irregular,
             "corner_deviation_deg": {"mean": float(deviation["mean"]), "max": float(deviation["max"]),
                                      "p95": _corner_deviation_p95(layout)},
@@ -231,4 +235,5 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
     say(f"{report['strips']} strips ({given} given), {report['patches']} patches, "
         f"{'valid' if report['valid'] else 'INVALID'}, {timings['total'] / 1000:.1f} s")
     return {**report, "paths": paths, "log": log, "stopped": stopped, "work": work, "cancelled_queries": cancelled,
+            "defect_locations": layout.get("defect_locations", []),
             "surface": surface, "design": ds.design}

@@ -12,11 +12,18 @@ compute_layout returns, in model units:
     vertices   [{"position", "valence", "boundary", "placement", "clearance" (from the loops,
                  within its region), "inradius" (its region's largest clearance)}]
     edges      [{"points", "vertices": [i, j], "sharp", "boundary", "length"}]
-    patches    [{"edges": [4], "reversed": [4], "corners": [4], "corner_angles_deg": [4], "area"}]
+    patches    [{"edges": [4], "reversed": [4], "corners": [4], "corner_angles_deg": [4], "area",
+                 "inradius", "defects": [kind, ...]}] (in the order of the native layout(True))
     summary    {"patches", "irregular_vertices": {"3": n, ...}, "boundary_vertices": {...},
                 "corner_deviation_deg": {"mean", "max"}, "euler": {"V", "E", "F", "chi"}}
     problems   what keeps the embedding from a clean quad layout (empty when it is one)
+    clean      valid and without defects (and, in a later issue, crease-conforming)
+    defects    the strict checks' counts (native layout_defects.h), DEFECT_KEYS
+    defect_locations  [{"kind", "position" (model units), "patch" | "vertex" | "edges" (the
+                 touching pair) | "triangles" (of an uncovered piece), "text"}]
     timings_ms {"regions", "layout"}
+Vertices carry "defects" (valence2, high_valence) and edges "defects" (overlapping_edges);
+patches' kinds are non_quad, overlapping_edges (a side overlaps), creased, degenerate.
 """
 import json
 import os
@@ -27,6 +34,73 @@ REGION_KEYS = ("valence", "disc", "colour", "total_curvature", "ideal_valence", 
                "boundaries", "genus", "area")
 
 
+DEFECT_KEYS = ("non_quad_patches", "overlapping_edges", "valence2_vertices", "high_valence_vertices",
+               "creased_patches", "degenerate_patches", "uncovered_triangles")
+# Per count key: the location kind it is reported with, and its words (one, many).
+DEFECT_WORDS = {
+    "non_quad_patches": ("non_quad", "patch without 4 corners", "patches without 4 corners"),
+    "overlapping_edges": ("overlapping_edges", "edge overlapping or touching another",
+                          "edges overlapping or touching others"),
+    "valence2_vertices": ("valence2", "vertex of valence 2", "vertices of valence 2"),
+    "high_valence_vertices": ("high_valence", "vertex of valence above 6 that no part corner forces",
+                              "vertices of valence above 6 that no part corner forces"),
+    "creased_patches": ("creased", "patch over a crease", "patches over a crease"),
+    "degenerate_patches": ("degenerate", "degenerate (tiny or thin) patch", "degenerate (tiny or thin) patches"),
+    "uncovered_triangles": ("uncovered", "surface triangle in no patch or in two",
+                            "surface triangles in no patch or in two"),
+}
+
+
+def _point(p):
+    return "(" + ", ".join(f"{x:.4g}" for x in p) + ")"
+
+
+def _location_text(loc):
+    _, one, many = next(w for w in DEFECT_WORDS.values() if w[0] == loc["kind"])
+    if "patch" in loc:
+        what = f"patch {loc['patch']}: {one}"
+    elif "vertex" in loc:
+        what = f"vertex {loc['vertex']}: {one}"
+    elif "edges" in loc:
+        i, j = loc["edges"]
+        what = f"edge {i} runs over itself" if i == j else f"edges {i} and {j} overlap or touch"
+    else:
+        what = f"{loc['triangles']} {one if loc['triangles'] == 1 else many}"
+    return f"{what} at {_point(loc['position'])}"
+
+
+def _crease_conforming(raw):
+    """The crease-conformity part of "clean" (design.md), a later issue's: until the native
+    layout reports "crease_conforming", every layout counts as conforming."""
+    return bool(raw.get("crease_conforming", True))
+
+
+def format_defects(clean, defects, locations, first=3):
+    """'clean: ...', or 'NOT clean; defects:' and a line per kind, e.g. '  3 patches without 4
+    corners (first at (..), ..)': counted in words, with the model-unit locations of the first
+    few."""
+    if clean:
+        return "clean: no layout defects"
+    parts = []
+    for key in DEFECT_KEYS:
+        n = defects.get(key, 0)
+        if not n:
+            continue
+        kind, one, many = DEFECT_WORDS[key]
+        located = [_point(loc["position"]) for loc in locations if loc["kind"] == kind]
+        where = list(dict.fromkeys(located))[:first]   # pairs of edges often touch at one point
+        at = ""
+        if len(located) == 1:
+            at = f" at {where[0]}"
+        elif located:   # uncovered triangles are located per piece, overlaps per pair
+            places = f" in {len(located)} places" if len(located) != n else ""
+            at = f"{places} (first at " + ", ".join(where) + ")"
+        parts.append(f"{n} {one if n == 1 else many}{at}")
+    if not parts:
+        return "NOT clean: the layout is not valid"
+    return "NOT clean; defects:\n" + "\n".join("  " + p for p in parts)
+
+
 def _region(r):
     out = {k: r[k] for k in REGION_KEYS}
     out["singularities"] = [{"position": s["position"], "index": s["index"]} for s in r["singularities"]]
@@ -35,6 +109,8 @@ def _region(r):
 
 def layout_json(raw):
     """layout.json content from the native layout dict (DesignState.layout or native.layout)."""
+    defects = {k: int(raw["defects"][k]) for k in DEFECT_KEYS}
+    locations = [{**loc, "text": _location_text(loc)} for loc in raw["defect_locations"]]
     return {
         "regions": [_region(r) for r in raw["regions"]],
         "valid": bool(raw["valid"]),
@@ -44,6 +120,9 @@ def layout_json(raw):
         "patches": raw["patches"],
         "summary": raw["summary"],
         "problems": list(raw["problems"]),
+        "clean": bool(raw["valid"]) and not any(defects.values()) and _crease_conforming(raw),
+        "defects": defects,
+        "defect_locations": locations,
         "crossings": raw["crossings"],
         "timings_ms": {"regions": raw["time_ms"], "layout": raw["layout_ms"]},
     }
@@ -72,6 +151,7 @@ def format_summary(result):
              + ", ".join(f"{n} {c}" for c, n in sorted(colours.items())) + ")"]
     if not result["valid"]:
         lines.append("layout: invalid (red regions are not discs: add strips that split them)")
+        lines.append(format_defects(result["clean"], result["defects"], result["defect_locations"]))
         return "\n".join(lines)
     s = result["summary"]
     irregular = ", ".join(f"{n} of valence {v}" for v, n in sorted(s["irregular_vertices"].items())) or "none"
@@ -81,6 +161,7 @@ def format_summary(result):
     lines.append(f"corner angles: deviate from 90 deg by {s['corner_deviation_deg']['mean']:.1f} deg on average, "
                  f"{s['corner_deviation_deg']['max']:.1f} at most")
     lines.append(f"Euler check: V - E + F = {e['V'] - e['E'] + e['F']} (surface: {e['chi']})")
+    lines.append(format_defects(result["clean"], result["defects"], result["defect_locations"]))
     for p in result["problems"]:
         lines.append(f"problem: {p}")
     t = result["timings_ms"]

@@ -145,7 +145,10 @@ QuadLayout build_quad_layout(const Surface& s, const LoopArrangement& A, const R
                              const std::vector<Singularity>& singularities) {
   QuadLayout layout;
   layout.valid = G.valid;
-  if (!G.valid) return layout;
+  if (!G.valid) {
+    layout.defects = find_layout_defects(s, A, layout);
+    return layout;
+  }
   const PrimalContext ctx(s, A, G);
   std::vector<Index> vertex_wedge;
   layout.vertices = place_primal_vertices(ctx, singularities, vertex_wedge);
@@ -156,6 +159,7 @@ QuadLayout build_quad_layout(const Surface& s, const LoopArrangement& A, const R
   }
   straighten_primal_edges(ctx, layout);
   cut_primal_patches(ctx, layout);
+  layout.defects = find_layout_defects(s, A, layout, ctx.surface_crease);
   return layout;
 }
 

@@ -41,10 +41,12 @@
 //   Output (normalized units): see QuadLayout. `problems` lists what keeps
 //           the embedding from being a clean quad layout (a patch without
 //           four sides, two edges sharing a stretch); the structure is
-//           still reported.
+//           still reported. `defects` holds the strict checks of the result
+//           (layout_defects.h).
 #pragma once
 
 #include "stripweave/layout/cut_wedges.h"
+#include "stripweave/layout/layout_defects.h"
 #include "stripweave/layout/regions.h"
 
 #include <array>
@@ -104,6 +106,9 @@ struct QuadLayout {
   std::vector<Index> triangle_patch;  // per refined triangle, kInvalid outside every patch
   Wedges patch_wedges;                // the refined mesh cut open along the primal edges
   std::vector<std::string> problems;
+  // The strict checks (layout_defects.h), also of an invalid layout (whose
+  // every surface triangle is uncovered).
+  LayoutDefects defects;
 };
 
 QuadLayout build_quad_layout(const Surface& surface, const LoopArrangement& arrangement, const Regions& regions,
