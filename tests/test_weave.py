@@ -193,8 +193,12 @@ def test_report_agrees_with_layout(woven_cube):
     report, out = woven_cube
     on_disk = json.load(open(out / "report.json"))
     layout = json.load(open(out / "layout.json"))
+    # design.md's keys and the README's documented extras, nothing else (fit comes only with --step)
     assert set(on_disk) == {"valid", "strips", "patches", "regions", "irregular_vertices", "corner_deviation_deg",
-                            "bbox_diagonal", "timings_ms"}
+                            "bbox_diagonal", "timings_ms", "clean", "defects", "peak_memory_mb",
+                            "input_triangles", "solver_triangles"}
+    assert on_disk["clean"] == layout["clean"] and on_disk["defects"] == layout["defects"]
+    assert on_disk["peak_memory_mb"] > 0 and on_disk["solver_triangles"] > 0
     assert on_disk["valid"] == layout["valid"]
     assert on_disk["patches"] == len(layout["patches"])
     colours = {c: sum(1 for r in layout["regions"] if r["colour"] == c) for c in ("red", "orange", "yellow", "none")}
