@@ -22,13 +22,16 @@ import os
 import shutil
 import sys
 import tempfile
-import threading
 import time
-import traceback
 
 import FreeCAD as App
 import FreeCADGui as Gui
-from PySide import QtCore, QtGui
+from PySide import QtGui
+
+sys.path.insert(0, os.environ.get("STRIPWEAVE_GUI_TESTS") or os.path.dirname(os.path.abspath(__file__)))
+
+import gui_harness as h  # noqa: E402
+from gui_harness import check, pump, report_view_text, result  # noqa: E402,F401
 
 RESULT = os.environ.get("STRIPWEAVE_GUI_RESULT") or os.path.join(tempfile.gettempdir(), "stripweave_gui_result.json")
 SCREENSHOT = os.environ.get("STRIPWEAVE_GUI_SCREENSHOT") or os.path.join(tempfile.gettempdir(), "stripweave_gui_test.png")
@@ -39,43 +42,6 @@ HUMAN_COPY = "/tmp/stripweave_gui.png"
 WB = "StripWeaveWorkbench"
 CMD = "StripWeave_PrepareSurface"
 
-result = {"ok": False, "checks": [], "info": {}, "error": None}
-_written = threading.Lock()
-
-
-def write_result_and_exit(code):
-    if _written.acquire(blocking=False):
-        try:
-            with open(RESULT, "w") as f:
-                json.dump(result, f, indent=1, sort_keys=True)
-        finally:
-            sys.stdout.flush()
-            sys.stderr.flush()
-            os._exit(code)
-
-
-def watchdog():
-    time.sleep(TIMEOUT)
-    result["error"] = "watchdog: scenario did not finish within {} s".format(TIMEOUT)
-    write_result_and_exit(3)
-
-
-def check(name, ok, detail=""):
-    result["checks"].append({"name": name, "ok": bool(ok), "detail": str(detail)})
-    App.Console.PrintMessage("GUITEST {} {}: {}\n".format("PASS" if ok else "FAIL", name, detail))
-    return bool(ok)
-
-
-def pump(seconds=0.2):
-    end = time.monotonic() + seconds
-    while time.monotonic() < end:
-        QtGui.QApplication.processEvents()
-        time.sleep(0.01)
-
-
-def report_view_text():
-    te = Gui.getMainWindow().findChild(QtGui.QTextEdit, "Report view")
-    return te.toPlainText() if te is not None else ""
 
 
 def surface_models(doc):
@@ -321,21 +287,4 @@ def _run_without_selection():
     return "Select exactly one" in report_view_text()[before:]
 
 
-def main():
-    code = 1
-    try:
-        scenario()
-        failed = [c["name"] for c in result["checks"] if not c["ok"]]
-        result["failed"] = failed
-        result["ok"] = not failed and bool(result["checks"])
-        code = 0 if result["ok"] else 1
-    except Exception:
-        result["error"] = traceback.format_exc()
-        App.Console.PrintError("GUITEST ERROR\n" + result["error"])
-    result["report_view_tail"] = report_view_text()[-6000:]
-    write_result_and_exit(code)
-
-
-threading.Thread(target=watchdog, name="gui-test watchdog", daemon=True).start()
-# Run from the event loop, once the main window is up.
-QtCore.QTimer.singleShot(200, main)
+h.run(scenario)

@@ -7,7 +7,10 @@
   zooms;
 * a click adds the strip: the picked point as a positional anchor, or, when
   an alternative other than the best is shown, with that loop's tangent at
-  the point as its direction (one undoable transaction);
+  the point as its direction (one undoable transaction).  The tool owns the
+  click: while it runs, FreeCAD's preselection and selection are off in its
+  view (``SelectionSuspended``), and the press and the release of a click
+  on the model are both marked handled, so neither selects the part;
 * the task panel lists the strips with Remove buttons, the singularities and
   fold-overs; Close or Esc ends the tool.
 
@@ -119,6 +122,7 @@ class DesignTool:
         self._filter = _ViewEventFilter(self)
         self._filtered = []
         self._scene = None
+        self._selection = None
         self.timer = QtCore.QTimer()
         self.timer.setInterval(POLL_MS)
         self.timer.timeout.connect(self._poll)
@@ -132,6 +136,7 @@ class DesignTool:
         obj = self.obj()
         self._scene = self.view.getSceneGraph()
         self._scene.addChild(self.preview.root)
+        self._selection = SelectionSuspended(self._scene)
         for cls, fn in ((coin.SoLocation2Event, self._on_move), (coin.SoMouseButtonEvent, self._on_button),
                         (coin.SoKeyboardEvent, self._on_key)):
             self._callbacks.append((cls, self.view.addEventCallbackPivy(cls.getClassTypeId(), fn)))
@@ -165,6 +170,9 @@ class DesignTool:
             except RuntimeError:
                 pass
         self._filtered = []
+        if self._selection is not None:
+            self._selection.restore()
+            self._selection = None
         if self._scene is not None:
             self._scene.removeChild(self.preview.root)
             self._scene = None
@@ -206,21 +214,26 @@ class DesignTool:
         self.hover_screen(int(pos[0]), int(pos[1]))
 
     def _on_button(self, event_cb):
+        """A left click that starts on the model belongs to the tool: its
+        press and its release are both handled here (a release left to the
+        scene graph would reach FreeCAD's selection), and a release within
+        CLICK_TOLERANCE_PX of the press adds the strip.  Other buttons, and
+        clicks that start off the model, go on to the navigation style."""
         ev = event_cb.getEvent()
         if ev.getButton() != coin.SoMouseButtonEvent.BUTTON1:
             return
         pos = ev.getPosition()
         x, y = int(pos[0]), int(pos[1])
         if ev.getState() == coin.SoButtonEvent.DOWN:
-            self._press = (x, y)
-            if self.pick(x, y) is not None:
-                event_cb.setHandled()  # the tool owns left clicks on the model (no selection)
+            self._press = (x, y) if self.pick(x, y) is not None else None
+            if self._press is not None:
+                event_cb.setHandled()
         elif ev.getState() == coin.SoButtonEvent.UP and self._press is not None:
             px, py = self._press
             self._press = None
+            event_cb.setHandled()
             if abs(x - px) <= CLICK_TOLERANCE_PX and abs(y - py) <= CLICK_TOLERANCE_PX:
-                if self.click_screen(x, y):
-                    event_cb.setHandled()
+                self.click_screen(x, y)
 
     def _on_key(self, event_cb):
         ev = event_cb.getEvent()
@@ -432,6 +445,36 @@ class DesignTool:
                 return True
             time.sleep(0.01)
         return False
+
+
+class SelectionSuspended:
+    """Preselection and selection off in one view while a tool runs.
+
+    FreeCAD's selection node (SoFCUnifiedSelection, the root of the view's
+    scene graph) handles a button release before the event reaches any
+    event callback below it, and marks it handled when the cursor is over a
+    part: the tool would see the press but never the release, and the click
+    would select the part.  Its ``highlightMode`` and ``selectionMode``
+    fields switch both off for this view only (what FreeCAD's own
+    EnablePreselection / EnableSelection preferences set, without touching
+    the user's parameters); :meth:`restore` puts the old values back."""
+
+    OFF = 2  # SoFCUnifiedSelection::OFF (its HighlightModes: AUTO, ON, OFF)
+
+    def __init__(self, scene):
+        self.fields = []
+        for name in ("highlightMode", "selectionMode"):
+            field = scene.getField(name) if scene is not None else None
+            if field is not None:
+                self.fields.append((field, field.getValue()))
+                field.setValue(self.OFF)
+        Gui.Selection.clearPreselection()
+        Gui.Selection.clearSelection()
+
+    def restore(self):
+        for field, value in self.fields:
+            field.setValue(value)
+        self.fields = []
 
 
 def loop_tangent(points, point, closed=True):
