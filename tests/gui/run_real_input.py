@@ -10,8 +10,11 @@ gui_harness.py, plus STRIPWEAVE_GUI_TESTS (this folder), STRIPWEAVE_GUI_WORKDIR
 A torus: Prepare surface, New design, Design strips (through the commands);
 then only real events: the pointer moves onto the outer equator (the preview
 shows the loop through it), a click adds exactly that loop as a strip (the
-part is neither preselected nor selected); Esc ends the tool, after which a
-click selects the part again.  Screenshot: click.png.
+part is neither preselected nor selected); on a second point Ctrl+wheel
+browses the alternatives (the camera does not zoom) and a click adds exactly
+the alternative shown; Esc ends the tool, after which a click selects the
+part again.  Screenshots: click.png (after the first click), alternative.png
+(the alternative shown, before its click).
 """
 
 import os
@@ -30,6 +33,8 @@ from gui_harness import check  # noqa: E402
 WORKDIR = os.environ.get("STRIPWEAVE_GUI_WORKDIR") or "/tmp"
 TRIANGLES = 8000
 POINT_A = (13.0, 0.0, 0.0)   # outer equator: the best loop through it is a meridian
+# Second points, the first visible one with alternatives is used.
+POINTS_B = ((0.0, -13.0, 0.0), (9.5, -2.5, 2.9), (-10.0, 0.0, 3.0), (7.0, 0.0, 0.0), (0.0, 13.0, 0.0))
 
 
 def loop_distance(a, b):
@@ -105,6 +110,58 @@ def click_adds_shown_loop(doc, tool, design, label, tolerance):
     return added
 
 
+def camera_pose(view):
+    """Position, orientation and height of the camera (its clipping planes
+    follow the scene's extent, which the preview changes)."""
+    cam = view.getCameraNode()
+    height = cam.height.getValue() if hasattr(cam, "height") else cam.heightAngle.getValue()
+    return (tuple(round(c, 6) for c in cam.position.getValue().getValue()),
+            tuple(round(c, 6) for c in cam.orientation.getValue().getValue()), round(height, 6))
+
+
+def browse_to(tool, view, notches):
+    """Real Ctrl+wheel notches (one browse step each); True if the proposal
+    that many steps on is shown."""
+    pose = camera_pose(view)
+    want = min(tool.want_index + notches, 5)
+    h.ctrl_wheel(notches)
+    h.wait_until(lambda: tool.want_index == want, 10)
+    tool.wait_idle(60)
+    check("Ctrl+wheel: one browse step per notch", tool.want_index == want, (tool.want_index, want))
+    check("Ctrl+wheel: the camera did not zoom", camera_pose(view) == pose, (pose, camera_pose(view)))
+    return tool.index == want
+
+
+def browse_and_click(doc, view, tool, design, tolerance):
+    """On a second point: Ctrl+wheel to the last alternative, click: that
+    loop is the new strip (not the best one)."""
+    for point in POINTS_B:
+        if tool.pick(*h.screen_position(view, point)) is None:
+            continue
+        if hover(tool, view, point, "hover B") is None:
+            continue
+        best = shown_loop(tool)
+        browse_to(tool, view, 1)
+        if len(tool.proposals) >= 2:
+            break
+    else:
+        check("browse: a second point with alternatives", False)
+        return
+    h.result["info"]["alternatives_B"] = [(round(a["length"], 3), round(a["cost"], 4)) for a in tool.proposals]
+    check("Ctrl+wheel: the second alternative shown", tool.index == 1 and "alternative 2" in tool.panel.proposal.text(),
+          (tool.index, tool.panel.proposal.text()))
+    if len(tool.proposals) > 2:
+        browse_to(tool, view, len(tool.proposals) - 2)
+    last = len(tool.proposals) - 1
+    check("Ctrl+wheel: the last alternative shown", tool.index == last, (tool.index, last))
+    alternative = shown_loop(tool)
+    gap = loop_distance(best, alternative)
+    check("the alternative shown is not the best loop", gap > tolerance, gap)
+    shot = os.path.join(WORKDIR, "alternative.png")
+    check("screenshot of the alternative saved", h.save_screenshot(view, shot), shot)
+    click_adds_shown_loop(doc, tool, design, "click B", tolerance)
+
+
 def scenario():
     from freecad.stripweave_wb import design_tool
     Gui.activateWorkbench("StripWeaveWorkbench")
@@ -135,6 +192,8 @@ def scenario():
               (float(np.abs(loop[:, 1]).max()), float(np.abs(np.hypot(ring - 10, loop[:, 2]) - 3).max())))
     shot = os.path.join(WORKDIR, "click.png")
     check("screenshot after the click saved", h.save_screenshot(view, shot), shot)
+
+    browse_and_click(doc, view, tool, design, tolerance)
 
     h.key("Escape")
     h.wait_until(lambda: design_tool.active_tool() is None, 5)

@@ -5,9 +5,13 @@
 * Ctrl+wheel browses the alternatives through that point, best first
   (``DesignSession.loops([point], alternatives=6)``); the plain wheel still
   zooms;
-* a click adds the strip: the picked point as a positional anchor, or, when
-  an alternative other than the best is shown, with that loop's tangent at
-  the point as its direction (one undoable transaction).  The tool owns the
+* a click adds the strip shown, exactly that loop: from the first of its
+  directional anchors (native ``loop_anchor``: a g' node of the loop, the
+  one nearest the point first) from which the design's loop search derives
+  the same loop again, verified by that search before the design changes
+  (one undoable transaction; nothing is added, and the panel says why, if
+  no anchor reproduces it).  A click where nothing is shown adds the loop
+  through the picked point as a positional anchor.  The tool owns the
   click: while it runs, FreeCAD's preselection and selection are off in its
   view (``SelectionSuspended``), and the press and the release of a click
   on the model are both marked handled, so neither selects the part;
@@ -26,7 +30,8 @@ Scriptable (tests, macros)::
     tool.hover_screen(x, y)      # what the mouse-move callback calls
     tool.hover_point((13, 0, 0)) # the same, without picking
     tool.wait_idle(); tool.preview_point_count()
-    tool.browse(+1); tool.click_screen(x, y) / tool.add_at(point); tool.close()
+    tool.browse(+1); tool.shown_proposal()
+    tool.click_screen(x, y) / tool.add_at(point); tool.close()
 """
 
 import time
@@ -82,13 +87,20 @@ class _ViewEventFilter(QtCore.QObject):
     def __init__(self, tool):
         super().__init__()
         self.tool = tool
+        self._last_wheel = None
 
     def eventFilter(self, watched, event):
         try:
             if event.type() == QtCore.QEvent.Wheel and (event.modifiers() & QtCore.Qt.ControlModifier):
-                delta = event.angleDelta().y() if hasattr(event, "angleDelta") else event.delta()
-                if delta:
-                    self.tool.browse(1 if delta < 0 else -1)  # wheel down: next, worse alternative
+                # The view (a QGraphicsView) is handed the viewport's wheel
+                # events too: one notch arrives at both filtered widgets, with
+                # one timestamp.  Browse once per notch, consume both.
+                stamp = (event.timestamp(), event.angleDelta().y())
+                if stamp != self._last_wheel:
+                    self._last_wheel = stamp
+                    delta = stamp[1]
+                    if delta:
+                        self.tool.browse(1 if delta < 0 else -1)  # wheel down: next, worse alternative
                 return True
             if event.type() == QtCore.QEvent.KeyPress and event.key() == QtCore.Qt.Key_Escape:
                 QtCore.QTimer.singleShot(0, self.tool.close)
@@ -295,22 +307,26 @@ class DesignTool:
         return self.add_at(point)
 
     def add_at(self, point):
-        """Add the strip through ``point``: positional, or with the tangent
-        of the alternative shown (when it is not the best)."""
+        """Add the strip shown (when ``point`` is near the hovered point), or
+        the strip through ``point`` as a positional anchor."""
         obj = self.obj()
         if self.worker is None or obj is None or self.add_serial is not None:
             return False
-        anchor = list(map(float, point))
-        if self.index > 0 and self.index < len(self.proposals) and self._near(point):
-            tangent = loop_tangent(self.proposals[self.index]["points"], point,
-                                   self.proposals[self.index].get("closed", True))
-            if tangent is not None:
-                anchor += list(tangent)
+        shown = self.shown_proposal() if self._near(point) else None
         self.add_base = obj.DesignJson
-        self.add_serial = self.worker.add_strip([anchor])
+        if shown is not None:
+            self.add_serial = self.worker.add_strip(shown["anchors"], shown=shown["points"])
+        else:
+            self.add_serial = self.worker.add_strip([list(map(float, point))])
         self.panel.set_busy(True)
         self.panel.set_status("adding the strip ...")
         return True
+
+    def shown_proposal(self):
+        """The proposal the preview shows (a dict as SessionCache.proposals), or None."""
+        if self.proposals and 0 <= self.index < len(self.proposals) and self.preview_point_count():
+            return self.proposals[self.index]
+        return None
 
     def remove(self, index):
         obj = self.obj()
@@ -475,24 +491,6 @@ class SelectionSuspended:
         for field, value in self.fields:
             field.setValue(value)
         self.fields = []
-
-
-def loop_tangent(points, point, closed=True):
-    """Unit tangent of the polyline ``points`` at its point nearest ``point``."""
-    pts = np.asarray(points, dtype=float).reshape(-1, 3)
-    if len(pts) < 2:
-        return None
-    j = int(np.argmin(np.linalg.norm(pts - np.asarray(point, dtype=float), axis=1)))
-    n = len(pts)
-    if closed:
-        prev, nxt = pts[(j - 1) % n], pts[(j + 1) % n]
-        if np.allclose(pts[0], pts[-1]) and j in (0, n - 1):  # repeated closing point
-            prev, nxt = pts[-2], pts[1]
-    else:
-        prev, nxt = pts[max(j - 1, 0)], pts[min(j + 1, n - 1)]
-    t = nxt - prev
-    norm = float(np.linalg.norm(t))
-    return tuple(t / norm) if norm > 0 else None
 
 
 def _viewport_widgets():
