@@ -230,6 +230,18 @@ class DesignModel:
         obj.Status = status_text(derived)
         obj.Summary = json.dumps(derived.summary())
 
+    def refresh_outputs(self, obj):
+        """Publish the current snapshot if the stored outputs differ from it
+        (after a background derivation: a reopened document shows what was
+        saved until the design is derived again).  True if it published."""
+        derived = self.derived(obj)
+        if derived is None:
+            return False
+        if obj.Status == status_text(derived) and obj.StripCount == len(derived.strips):
+            return False
+        self.publish(obj, derived)
+        return True
+
     def summary(self, obj):
         """The stored Summary as a dict ({} if none)."""
         return _loads(obj.Summary) or {}

@@ -66,6 +66,17 @@ def loop_options_key(design):
     return json.dumps(design.loop_options(), sort_keys=True)
 
 
+# The options the native DesignState is made with (its constructor and its
+# compatibility settings, §6.2): an imported design that differs in them
+# needs a new DesignState, or its strips are searched under the old mask
+# rules (a woven design's band and 60-degree angle refused 6 of 10 strips).
+STATE_OPTIONS = ("boundary", "compatibility_band", "compatibility_angle_deg")
+
+
+def state_options_key(design):
+    return json.dumps({k: design.options.get(k) for k in STATE_OPTIONS}, sort_keys=True)
+
+
 class Derived:
     """A snapshot of everything a design implies, for drawing and reports.
 
@@ -143,6 +154,7 @@ class SessionCache:
         self.session = None
         self.surface = None
         self._loop_key = None
+        self._state_key = None
         self._features = None
         self.applied_key = None      # design_key of what the session reflects
         self._mask_key = None        # (session, revision) whose mask the loop engine holds
@@ -270,17 +282,19 @@ class SessionCache:
         with self.lock:
             key = design_key(design, features)
             loop_key = loop_options_key(design)
+            state_key = state_options_key(design)
             if (self.session is None or self.surface is not surface or self._loop_key != loop_key
-                    or self._features != bool(features)):
+                    or self._features != bool(features) or self._state_key != state_key):
                 reuse = None
                 if self.session is not None and self.surface is surface and self._loop_key == loop_key:
-                    reuse = self.session.loop_session  # only Features changed: keep the graph
+                    reuse = self.session.loop_session  # Features or compatibility changed: keep the graph
                 # Built empty, then updated: a failing strip must not lose the session.
                 self.session = DesignSession(surface, Design(options=design.options), loop_session=reuse,
                                              features=bool(features))
                 self.surface = surface
                 self._loop_key = loop_key
                 self._features = bool(features)
+                self._state_key = state_key
                 self._mesh = None
                 self.applied_key = None
             if key == self.applied_key and self.derived is not None:
