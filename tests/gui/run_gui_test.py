@@ -22,6 +22,7 @@ import os
 import shutil
 import sys
 import tempfile
+import threading
 import time
 
 import FreeCAD as App
@@ -93,6 +94,33 @@ def run_prepare(doc, obj, expect_model=True):
     pump(0.2)
     new = [o for o in surface_models(doc) if o.Name not in before]
     return new[0] if len(new) == 1 else None
+
+
+def prepare_again(doc, box, sm):
+    """Prepare surface on a prepared part: the SurfaceModel is reused (up to
+    date), or rebuilt in place when other parameters are given."""
+    from freecad.stripweave_wb import builder, commands
+    if not check("prepare again: the box has a SurfaceModel", sm is not None):
+        return
+    n_models = len(surface_models(doc))
+    before = len(report_view_text())
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection(box)
+    Gui.runCommand(CMD)
+    pump(0.2)
+    check("prepare again: no build, no second SurfaceModel",
+          not builder.active_builds() and len(surface_models(doc)) == n_models,
+          (len(builder.active_builds()), len(surface_models(doc))))
+    check("prepare again: reported as reused", "reused" in report_view_text()[before:],
+          report_view_text()[before:][-300:])
+    check("prepare again: the SurfaceModel selected", Gui.Selection.getSelection() == [sm])
+    ctl = commands.prepare_surface(box, target_triangles=6000)
+    builder.wait_for_builds(TIMEOUT / 2)
+    pump(0.2)
+    check("prepare again with other parameters: the same SurfaceModel rebuilt",
+          ctl is not None and len(surface_models(doc)) == n_models and sm.TargetTriangles == 6000
+          and sm.Proxy.is_up_to_date(sm), (ctl, len(surface_models(doc)), sm.TargetTriangles))
+    check("prepare again: undoable", (doc.UndoNames or [None])[0] == "Prepare surface", doc.UndoNames)
 
 
 def make_parts(doc):
@@ -208,10 +236,17 @@ def scenario():
     except OSError:
         pass
 
-    # 4. cancel: press Cancel in the progress panel right away
+    # 4. prepare again: the part keeps its one SurfaceModel
+    prepare_again(doc, parts["box"], models.get("box"))
+
+    # cancel: press Cancel in the progress panel right away (a part not prepared yet)
+    import Part
+    cyl = doc.addObject("Part::Feature", "Cylinder")
+    cyl.Shape = Part.makeCylinder(4, 12, App.Vector(0, 30, 0))
+    doc.recompute()
     n_models = len(surface_models(doc))
     Gui.Selection.clearSelection()
-    Gui.Selection.addSelection(parts["box"])
+    Gui.Selection.addSelection(cyl)
     Gui.runCommand(CMD)
     running = builder.active_builds()
     cancel_button = None
@@ -220,16 +255,39 @@ def scenario():
         if btn is not None:  # not shown yet: no events processed since runCommand
             cancel_button = btn
     check("cancel: Cancel button found in the task panel", cancel_button is not None)
+    t_cancel = time.monotonic()
     if cancel_button is not None:
         cancel_button.click()
     elif running and running[0].panel is not None:
         running[0].panel.reject()
     check("cancel: progress.cancel() called", bool(running) and running[0].job.cancelled)
+    if running and not running[0].job.done():
+        check("cancel: the panel stays open while the build stops",
+              bool(Gui.Control.activeDialog()) and "cancelling" in running[0].panel.stage.text(),
+              running[0].panel.stage.text())
     builder.wait_for_builds(TIMEOUT / 2)
+    result["info"]["cancel_to_stopped_s"] = round(time.monotonic() - t_cancel, 3)
     pump(0.3)
+    check("cancel: the build thread stopped", bool(running) and running[0].job.done())
     check("cancel: no SurfaceModel added", len(surface_models(doc)) == n_models)
     check("cancel: reported", "cancelled" in report_view_text())
     check("cancel: task panel closed", not Gui.Control.activeDialog())
+
+    # restart right after a cancel: the new build waits for the old one, never two at once
+    from freecad.stripweave_wb import commands
+    first = commands.prepare_surface(cyl)
+    first.cancel()
+    second = commands.prepare_surface(cyl)
+    most = 0
+    while builder.active_builds():
+        most = max(most, sum(1 for t in threading.enumerate() if t.name == "StripWeave surface build"))
+        pump(0.02)
+    pump(0.3)
+    result["info"]["restart_builds_at_once"] = most
+    check("restart: never two builds of the part at once", most == 1, most)
+    check("restart: the second build made the one SurfaceModel",
+          second is not first and len([o for o in surface_models(doc) if o.Source == cyl]) == 1,
+          [o.Label for o in surface_models(doc)])
 
     # 5. bad input: an empty shape and a wire (no faces)
     import Part

@@ -14,6 +14,9 @@ file dialog answered with the woven file): every woven strip is derived, the
 session takes the file's compatibility options, the panel lists them all.
 Then the saved Status is made stale, the document saved and reopened: after
 the background derivation Status and StripCount are the derived ones again.
+Last, the SurfaceModel is deleted (Std_Delete, its dependency question
+answered Yes): a one-line message, the Design's Status says what to do, no
+traceback.
 """
 
 import json
@@ -24,6 +27,7 @@ sys.path.insert(0, os.environ.get("STRIPWEAVE_GUI_TESTS") or os.path.dirname(os.
 
 import FreeCAD as App  # noqa: E402
 import FreeCADGui as Gui  # noqa: E402
+from PySide import QtCore  # noqa: E402
 
 import gui_harness as h  # noqa: E402
 from gui_harness import check  # noqa: E402
@@ -81,7 +85,38 @@ def reopen_refreshes_status(doc, design, status):
     check("reopen: background derivation finished", done)
     check("reopen: Status refreshed after the derivation", d.Status == status, d.Status)
     check("reopen: StripCount as derived", d.StripCount == strips, d.StripCount)
+    delete_surface_model(doc, d)
     App.closeDocument(doc.Name)
+
+
+def answer_yes_to_modal_dialogs():
+    from PySide import QtGui
+    box = QtGui.QApplication.activeModalWidget()
+    if isinstance(box, QtGui.QMessageBox):
+        h.result["info"].setdefault("delete_dialog", []).append(box.text()[:200])
+        yes = box.button(QtGui.QMessageBox.Yes)
+        (yes or box.defaultButton()).click()
+    QtCore.QTimer.singleShot(100, answer_yes_to_modal_dialogs)
+
+
+def delete_surface_model(doc, design):
+    sm = design.Surface
+    before = len(h.report_view_text())
+    QtCore.QTimer.singleShot(100, answer_yes_to_modal_dialogs)
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection(sm)
+    Gui.runCommand("Std_Delete")
+    h.pump(0.3)
+    doc.recompute()
+    h.pump(0.3)
+    text = h.report_view_text()[before:]
+    h.result["info"]["delete_report"] = text[-800:]
+    check("delete SurfaceModel: deleted", design.Surface is None)
+    check("delete SurfaceModel: the design says it has no surface model",
+          design.Status.startswith("error: no SurfaceModel linked") and design.Surface is None, design.Status)
+    check("delete SurfaceModel: a message names the design", design.Label in text and "no surface model" in text,
+          text[-400:])
+    check("delete SurfaceModel: no traceback", "Traceback" not in text, text[-800:])
 
 
 def scenario():

@@ -200,9 +200,17 @@ class DesignModel:
         import Part
         sm = obj.Surface
         if sm is None or not is_surface_model(sm):
+            # Its SurfaceModel was deleted (or never linked): say so once, in
+            # one line; raising would print a traceback for a user's action.
             obj.Shape = Part.Shape()
-            obj.Status = "error: no SurfaceModel linked"
-            raise ValueError("StripWeave: design '{}' has no SurfaceModel".format(obj.Label))
+            obj.StripCount = 0
+            status = ("error: no SurfaceModel linked: the design keeps its strips; link a SurfaceModel in its "
+                      "Surface property (or undo the deletion)")
+            if obj.Status != status:
+                obj.Status = status
+                messages.error("design '{}' has no surface model: {}".format(obj.Label, status[7:]),
+                               dialog=False)
+            return
         if App.GuiUp and self.surface_if_ready(obj) is None:
             # The surface is (re)built on a worker thread; derive and publish
             # when it is there instead of freezing the GUI in a recompute.

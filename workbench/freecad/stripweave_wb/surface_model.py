@@ -311,8 +311,14 @@ class ViewProviderSurfaceModel:
             ov.boundaries.set_line_width(vobj.CurveWidth)
 
     def onDelete(self, vobj, subelements):
-        from . import builder
+        from . import builder, design_model
         builder.cancel_for(vobj.Object)
+        users = [d.Label for d in design_model.designs_of(vobj.Object)]
+        if users:
+            messages.warning("SurfaceModel '{}' deleted: {} no surface model now; undo, or link another "
+                             "SurfaceModel in the Surface property".format(
+                                 vobj.Object.Label, ", ".join("'{}'".format(u) for u in users)
+                                 + (" has" if len(users) == 1 else " have")))
         return True
 
     def doubleClicked(self, vobj):
