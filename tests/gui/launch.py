@@ -1,6 +1,7 @@
 """Start a GUI scenario script in FreeCAD under Xvfb (for the pytest files in
 tests/gui): a throw-away FreeCAD user folder (FREECAD_USER_HOME) whose
-Mod/StripWeave links to <repo>/workbench, the native build, and the
+Mod/StripWeave links to <repo> (the Addon Manager's layout: FreeCAD reads
+<repo>/package.xml), the native build, and the
 scenario's JSON result read back."""
 
 import glob
@@ -71,3 +72,28 @@ def assert_passed(run):
     failed = failures(result)
     assert not failed, "failed checks:\n" + "\n".join(failed)
     assert result["ok"] and run["returncode"] == 0
+
+
+def run_headless(script, tmp, timeout=300):
+    """Run ``script`` under ``freecadcmd`` (no GUI) with a throw-away user
+    folder whose Mod/StripWeave links to the repository; returns the JSON it
+    wrote to $STRIPWEAVE_HEADLESS_RESULT (its "error" must be None)."""
+    if shutil.which("freecadcmd") is None:
+        pytest.fail("freecadcmd is not installed (bash .ci/setup installs it)")
+    build = build_dir()
+    if not glob.glob(str(build / "_stripweave*.so")):
+        pytest.fail("native module not built: no _stripweave*.so in {}".format(build))
+    home = tmp / "freecad_home"
+    (home / "Mod").mkdir(parents=True, exist_ok=True)
+    link = home / "Mod" / "StripWeave"
+    if not link.is_symlink():
+        link.symlink_to(REPO)
+    env = dict(os.environ, FREECAD_USER_HOME=str(home), STRIPWEAVE_BUILD=str(build),
+               STRIPWEAVE_HEADLESS_RESULT=str(tmp / "result.json"), STRIPWEAVE_HEADLESS_WORKDIR=str(tmp))
+    proc = subprocess.run(["freecadcmd", str(script)], env=env, cwd=str(tmp), capture_output=True, text=True,
+                          timeout=timeout)
+    out = tmp / "result.json"
+    assert out.is_file(), proc.stdout[-3000:] + proc.stderr[-3000:]
+    result = json.loads(out.read_text())
+    assert result["error"] is None, result["error"]
+    return result

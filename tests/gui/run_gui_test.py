@@ -27,7 +27,7 @@ import time
 
 import FreeCAD as App
 import FreeCADGui as Gui
-from PySide import QtGui
+from PySide import QtCore, QtGui
 
 sys.path.insert(0, os.environ.get("STRIPWEAVE_GUI_TESTS") or os.path.dirname(os.path.abspath(__file__)))
 
@@ -94,6 +94,39 @@ def run_prepare(doc, obj, expect_model=True):
     pump(0.2)
     new = [o for o in surface_models(doc) if o.Name not in before]
     return new[0] if len(new) == 1 else None
+
+
+PREFERRED_TRIANGLES = 8000
+
+
+def preferences_page():
+    """Edit > Preferences lists the StripWeave page (FreeCAD loads its
+    settings); set on the page, a default is what Prepare surface uses."""
+    from freecad.stripweave_wb import preferences
+    seen = {}
+
+    def inspect_dialog():
+        dialog = QtGui.QApplication.activeModalWidget()
+        if dialog is None:
+            QtCore.QTimer.singleShot(100, inspect_dialog)
+            return
+        page = dialog.findChild(QtGui.QWidget, "StripWeavePreferences")
+        spin = page.findChild(QtGui.QSpinBox, "TargetTriangles") if page is not None else None
+        seen["page"] = page is not None
+        seen["loaded"] = spin.value() if spin is not None else None
+        dialog.reject()
+
+    QtCore.QTimer.singleShot(300, inspect_dialog)
+    Gui.runCommand("Std_DlgPreferences")
+    pump(0.3)
+    check("preferences: the StripWeave page is in Edit > Preferences", seen.get("page"), seen)
+    check("preferences: the page shows the stored default", seen.get("loaded") == 30000, seen)
+    page = preferences._page_class()()
+    page.loadSettings()
+    page.triangles.setValue(PREFERRED_TRIANGLES)
+    page.saveSettings()
+    check("preferences: saved in the parameter tree",
+          App.ParamGet(preferences.PARAM_PATH).GetInt("TargetTriangles") == PREFERRED_TRIANGLES)
 
 
 def prepare_again(doc, box, sm):
@@ -170,6 +203,7 @@ def scenario():
     result["info"]["stripweave"] = getattr(stripweave, "__file__", "?")
     from freecad.stripweave_wb import builder, overlay
 
+    preferences_page()
     doc = App.newDocument("StripWeaveGuiTest")
     parts = make_parts(doc)
     Gui.activeDocument().activeView().viewIsometric()
@@ -194,6 +228,8 @@ def scenario():
         check("{}: overlay boundary loops match report".format(src.Label),
               bounds is not None and bounds == report.get("boundary_loops"), (bounds, report.get("boundary_loops")))
         if key == "box":
+            check("box: built at the preferred target triangles",
+                  sm.TargetTriangles == PREFERRED_TRIANGLES, sm.TargetTriangles)
             check("box: 12 feature curves", feats == 12, feats)
             check("box: no boundary loop", bounds == 0, bounds)
         if key == "mesh":

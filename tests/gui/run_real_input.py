@@ -47,14 +47,19 @@ def loop_distance(a, b):
     return float(max(d.min(axis=1).max(), d.min(axis=0).max()))
 
 
-def start_tool(doc, sm):
+def start_tool(doc, view, sm):
     from freecad.stripweave_wb import design_model, design_tool
     Gui.Selection.clearSelection()
     Gui.Selection.addSelection(sm)
-    Gui.runCommand("StripWeave_DesignStrips")  # a new design on a model without one
+    h.mouse_move(view, *h.screen_position(view, (0, 0, 0)))  # the pointer in the 3D view, off the part
+    pose = camera_pose(view)
+    h.key("y")
+    h.key("d")              # the Design strips shortcut: a new design on a model without one
+    check("shortcut: the camera did not move", camera_pose(view) == pose, (pose, camera_pose(view)))
+    h.wait_until(lambda: design_tool.active_tool() is not None, 10)
     designs = design_model.designs_of(sm)
     tool = design_tool.active_tool()
-    if not check("Design strips: tool and design", tool is not None and len(designs) == 1, designs):
+    if not check("shortcut Y, D (real keys): tool and design", tool is not None and len(designs) == 1, designs):
         return None, None
     check("Design strips: design derived", tool.wait_idle(90) and tool.worker is not None)
     return tool, designs[0]
@@ -151,7 +156,13 @@ def browse_and_click(doc, view, tool, design, tolerance):
     check("Ctrl+wheel: the second alternative shown", tool.index == 1 and "alternative 2" in tool.panel.proposal.text(),
           (tool.index, tool.panel.proposal.text()))
     if len(tool.proposals) > 2:
-        browse_to(tool, view, len(tool.proposals) - 2)
+        pose = camera_pose(view)
+        h.key("Next")  # Page Down: the next alternative, from the keyboard
+        tool.wait_idle(60)
+        check("Page Down (real key): the third alternative shown", tool.index == 2, tool.index)
+        check("Page Down: the camera did not move", camera_pose(view) == pose, (pose, camera_pose(view)))
+    if len(tool.proposals) > 3:
+        browse_to(tool, view, len(tool.proposals) - 3)
     last = len(tool.proposals) - 1
     check("Ctrl+wheel: the last alternative shown", tool.index == last, (tool.index, last))
     alternative = shown_loop(tool)
@@ -171,7 +182,7 @@ def scenario():
     if not check("torus prepared", sm is not None):
         return
     view = Gui.activeDocument().activeView()
-    tool, design = start_tool(doc, sm)
+    tool, design = start_tool(doc, view, sm)
     if tool is None:
         return
     scene = view.getSceneGraph()
@@ -210,7 +221,8 @@ def scenario():
     h.pump(0.3)
     check("after the tool: a click selects the part again",
           [o.Name for o in Gui.Selection.getSelection()] == [torus.Name],
-          [o.Name for o in Gui.Selection.getSelection()])
+          ([o.Name for o in Gui.Selection.getSelection()], view.getObjectInfo(pos), torus.ViewObject.Visibility,
+           Gui.Selection.getPreselection().ObjectName))
     errors = h.tracebacks_in_report_view()
     check("no tracebacks in the report view", not errors, errors[:5])
 

@@ -4,7 +4,7 @@
 
 Starts ``xvfb-run freecad tests/gui/run_gui_test.py`` with a throw-away
 FreeCAD user folder (FREECAD_USER_HOME) whose Mod/StripWeave links to
-<repo>/workbench (made by workbench/link_into_freecad.sh), then asserts on the
+<repo> (made by workbench/link_into_freecad.sh, the Addon Manager's layout), then asserts on the
 JSON result the script writes.  The screenshot is kept in pytest's tmp folder
 (and copied to /tmp/stripweave_gui.png by the script).
 
@@ -24,7 +24,7 @@ TIMEOUT = 180
 def gui_run(tmp_path_factory):
     tmp = tmp_path_factory.mktemp("stripweave_gui")
     run = run_scenario(SCRIPT, tmp, TIMEOUT, {"STRIPWEAVE_GUI_SCREENSHOT": str(tmp / "screenshot.png")})
-    assert (tmp / "freecad_home" / "Mod" / "StripWeave").resolve() == (REPO / "workbench").resolve()
+    assert (tmp / "freecad_home" / "Mod" / "StripWeave").resolve() == REPO.resolve()  # as the Addon Manager
     return run
 
 

@@ -110,6 +110,7 @@ class PrepareSurfaceCommand:
         return {
             "Pixmap": icon_path("PrepareSurface.svg"),
             "MenuText": "Prepare surface",
+            "Accel": "Y, P",
             "ToolTip": ("Prepare surface: remesh the selected Part or Mesh object for "
                         "StripWeave, find its feature curves and boundaries, and show them."),
         }

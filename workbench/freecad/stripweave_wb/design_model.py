@@ -49,10 +49,12 @@ def designs_of(surface_model):
 
 
 def new_design_dict(surface_model=None):
-    """An empty design file, with the model it is made on when known."""
+    """An empty design file, with the model it is made on when known, and
+    the boundary mode of the preferences."""
     import_stripweave()
     from stripweave.design import Design
-    d = Design()
+    from . import preferences
+    d = Design(options={"boundary": preferences.boundary_mode()})
     if surface_model is not None:
         d.model = _model_info(surface_model)
         d.options["feature_angle_deg"] = float(surface_model.FeatureAngle)

@@ -2,9 +2,9 @@
 
 * hovering the surface shows the best compatible loop through the point
   under the cursor (``DesignSession.best_loop``), as a highlighted line;
-* Ctrl+wheel browses the alternatives through that point, best first
-  (``DesignSession.loops([point], alternatives=6)``); the plain wheel still
-  zooms;
+* Ctrl+wheel (or Page Down / Page Up) browses the alternatives through that
+  point, best first (``DesignSession.loops([point], alternatives=6)``); the
+  plain wheel still zooms;
 * a click adds the strip shown, exactly that loop: from the first of its
   directional anchors (native ``loop_anchor``: a g' node of the loop, the
   one nearest the point first) from which the design's loop search derives
@@ -80,29 +80,44 @@ def start(obj):
     return tool
 
 
+# Keyboard browsing, for users without a wheel: the next (worse) or previous alternative.
+BROWSE_KEYS = {QtCore.Qt.Key_PageDown: 1, QtCore.Qt.Key_PageUp: -1}
+
+
 class _ViewEventFilter(QtCore.QObject):
-    """Qt filter on the 3D viewport: Ctrl+wheel browses (and does not zoom),
-    Esc closes the tool."""
+    """Qt filter on the 3D viewport: Ctrl+wheel and Page Down / Page Up
+    browse (and do not zoom), Esc closes the tool."""
 
     def __init__(self, tool):
         super().__init__()
         self.tool = tool
-        self._last_wheel = None
+        self._last = None
+
+    def _first_sight(self, event, what):
+        """The view (a QGraphicsView) is handed its viewport's events too:
+        one notch or key press reaches both filtered widgets, with one
+        timestamp.  True the first time."""
+        stamp = (event.type(), event.timestamp(), what)
+        if stamp == self._last:
+            return False
+        self._last = stamp
+        return True
 
     def eventFilter(self, watched, event):
         try:
-            if event.type() == QtCore.QEvent.Wheel and (event.modifiers() & QtCore.Qt.ControlModifier):
-                # The view (a QGraphicsView) is handed the viewport's wheel
-                # events too: one notch arrives at both filtered widgets, with
-                # one timestamp.  Browse once per notch, consume both.
-                stamp = (event.timestamp(), event.angleDelta().y())
-                if stamp != self._last_wheel:
-                    self._last_wheel = stamp
-                    delta = stamp[1]
-                    if delta:
-                        self.tool.browse(1 if delta < 0 else -1)  # wheel down: next, worse alternative
+            kind = event.type()
+            if kind == QtCore.QEvent.Wheel and (event.modifiers() & QtCore.Qt.ControlModifier):
+                delta = event.angleDelta().y()
+                if delta and self._first_sight(event, delta):
+                    self.tool.browse(1 if delta < 0 else -1)  # wheel down: next, worse alternative
                 return True
-            if event.type() == QtCore.QEvent.KeyPress and event.key() == QtCore.Qt.Key_Escape:
+            if kind in (QtCore.QEvent.KeyPress, QtCore.QEvent.KeyRelease) and event.key() in BROWSE_KEYS:
+                # FreeCAD's navigation styles zoom on Page Up / Page Down,
+                # some on the release too: both are the tool's while it runs.
+                if kind == QtCore.QEvent.KeyPress and self._first_sight(event, event.key()):
+                    self.tool.browse(BROWSE_KEYS[event.key()])
+                return True
+            if kind == QtCore.QEvent.KeyPress and event.key() == QtCore.Qt.Key_Escape:
                 QtCore.QTimer.singleShot(0, self.tool.close)
                 return True
         except Exception:

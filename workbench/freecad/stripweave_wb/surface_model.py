@@ -75,12 +75,9 @@ def is_surface_model(obj):
 
 
 def parameter_defaults():
-    """Defaults from the user parameters (Preferences/Mod/StripWeave)."""
-    grp = App.ParamGet("User parameter:BaseApp/Preferences/Mod/StripWeave")
-    return {
-        "target_triangles": grp.GetInt("TargetTriangles", DEFAULT_TARGET_TRIANGLES),
-        "feature_angle_deg": grp.GetFloat("FeatureAngle", DEFAULT_FEATURE_ANGLE_DEG),
-    }
+    """Defaults from the user parameters (preferences.py: Edit > Preferences > StripWeave)."""
+    from . import preferences
+    return {"target_triangles": preferences.target_triangles(), "feature_angle_deg": preferences.feature_angle()}
 
 
 class SurfaceModel:
