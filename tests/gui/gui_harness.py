@@ -208,3 +208,64 @@ def save_screenshot(view, path):
     width, height = view.getSize()
     view.saveImage(path, int(width), int(height), "White")
     return os.path.isfile(path) and os.path.getsize(path) > 5000
+
+
+# -- what a screenshot shows ----------------------------------------------------------
+
+def visible_points(view, points, tolerance):
+    """(point, (x, y)) for the points of the model the view shows at their
+    own screen position (the pick there lands within ``tolerance`` of them:
+    not hidden behind other geometry, inside the view)."""
+    width, height = view.getSize()
+    out = []
+    for p in points:
+        x, y = screen_position(view, p)
+        if not (3 <= x < width - 3 and 3 <= y < height - 3):
+            continue
+        info = view.getObjectInfo((x, y))
+        if info and dist((info["x"], info["y"], info["z"]), p) <= tolerance:
+            out.append((tuple(p), (x, y)))
+    return out
+
+
+def colour_hits(image_path, view, positions, colour, radius=3, tolerance=0.06):
+    """How many Coin ``positions`` have a pixel of ``colour`` (RGB in 0..1,
+    within ``tolerance`` per channel) within ``radius`` pixels in the image
+    saved by :func:`save_screenshot`."""
+    image = QtGui.QImage(image_path)
+    height = image.height()
+    hits = 0
+    for x, y in positions:
+        row = height - 1 - y
+        found = False
+        for dx in range(-radius, radius + 1):
+            for dy in range(-radius, radius + 1):
+                c = QtGui.QColor(image.pixel(x + dx, row + dy))
+                if all(abs(a - b) <= tolerance for a, b in zip((c.redF(), c.greenF(), c.blueF()), colour)):
+                    found = True
+                    break
+            if found:
+                break
+        hits += found
+    return hits
+
+
+def check_loops_in_picture(label, image_path, view, loops, colours, surface_points, diagonal):
+    """The picture shows each loop in its colour where it projects (most of
+    its visible points), and no loop colour on surface points away from the
+    loops (the check tells loops from the rest)."""
+    tol = 0.01 * diagonal
+    for i, (loop, colour) in enumerate(zip(loops, colours)):
+        step = max(1, len(loop) // 80)
+        seen = visible_points(view, loop[::step], tol)
+        hits = colour_hits(image_path, view, [pos for _, pos in seen], colour)
+        result["info"]["{} loop {} pixels".format(label, i + 1)] = [hits, len(seen)]
+        check("{}: loop {} drawn in its colour where it projects".format(label, i + 1),
+              len(seen) >= 5 and hits >= 0.8 * len(seen), (hits, len(seen), colour))
+    everything = [p for loop in loops for p in loop]
+    away = [p for p in surface_points if min(dist(p, q) for q in everything[::3]) > 0.15 * diagonal]
+    seen = visible_points(view, away, tol)
+    for i, colour in enumerate(colours):
+        hits = colour_hits(image_path, view, [pos for _, pos in seen], colour)
+        check("{}: no loop {} colour away from the loops".format(label, i + 1),
+              len(seen) >= 5 and hits <= 0.1 * len(seen), (hits, len(seen)))

@@ -28,6 +28,8 @@ import sys
 import tempfile
 import time
 
+import numpy as np
+
 import FreeCAD as App
 import FreeCADGui as Gui
 from PySide import QtCore, QtGui
@@ -108,13 +110,30 @@ def send_ctrl_wheel(widget, x, y, delta):
     QtGui.QApplication.sendEvent(widget, ev)
 
 
-def save_screenshot(view, path, refit=True):
+def picture_shows_the_loops(label, path, view, design):
+    """What the screenshot must show: each strip's loop in its colour."""
+    from freecad.stripweave_wb import stripe_pattern
+    d = design.Proxy.derived(design)
+    if not check(label + ": design derived", d is not None):
+        return
+    loops = [s["points"] for s in d.strips]
+    h.check_loops_in_picture(label, path, view, loops, [stripe_pattern.loop_color(i) for i in range(len(loops))],
+                             d.vertices[::max(1, len(d.vertices) // 400)], design.Shape.BoundBox.DiagonalLength
+                             or float(np.linalg.norm(np.ptp(d.vertices, axis=0))))
+
+
+def save_screenshot(view, path, refit=True, view_size=False):
+    """``view_size``: the image has the view's size, so a Coin position is
+    its pixel (for checks of what it shows); else 1024 x 768."""
     Gui.Selection.clearSelection()
     if refit:
         view.viewIsometric()
         view.fitAll()
     pump(0.5)
-    view.saveImage(path, 1024, 768, "White")
+    if view_size:
+        h.save_screenshot(view, path)
+    else:
+        view.saveImage(path, 1024, 768, "White")
     ok = os.path.isfile(path) and os.path.getsize(path) > 5000
     copy = HUMAN_COPIES.get(path)
     if ok and copy and os.path.abspath(copy) != os.path.abspath(path):
@@ -245,7 +264,8 @@ def torus_scenario(doc):
     check("overlay: two loops", ov["loop_polylines"] == 2, ov)
     check("overlay: singularity markers match the summary",
           ov["singularity_points"] == len(summary.get("singularities", [])), ov)
-    check("screenshot (torus) saved", save_screenshot(view, SHOT_TORUS), SHOT_TORUS)
+    check("screenshot (torus) saved", save_screenshot(view, SHOT_TORUS, view_size=True), SHOT_TORUS)
+    picture_shows_the_loops("torus picture", SHOT_TORUS, view, design)
     Gui.getMainWindow().grab().save(SHOT_WINDOW)  # the task panel, for a human to look at
 
     # Remove in the panel, then undo

@@ -203,6 +203,11 @@ def scenario():
               (float(np.abs(loop[:, 1]).max()), float(np.abs(np.hypot(ring - 10, loop[:, 2]) - 3).max())))
     shot = os.path.join(WORKDIR, "click.png")
     check("screenshot after the click saved", h.save_screenshot(view, shot), shot)
+    if loop is not None:
+        from freecad.stripweave_wb import stripe_pattern
+        d = design.Proxy.derived(design)
+        h.check_loops_in_picture("click picture", shot, view, [loop], [stripe_pattern.loop_color(0)],
+                                 d.vertices[::max(1, len(d.vertices) // 400)], diagonal)
 
     browse_and_click(doc, view, tool, design, tolerance)
 

@@ -40,3 +40,12 @@ def test_screenshots_saved(gui_run):
     for name in ("torus.png", "cube.png"):
         data = (gui_run["tmp"] / name).read_bytes()
         assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 5000
+
+
+def test_torus_picture_shows_each_loop_in_its_colour(gui_run):
+    """The screenshot is checked for what it shows: at the visible points of
+    each strip's loop, projected, the loop's colour (not just a saved PNG)."""
+    info = gui_run["result"]["info"]
+    for i in (1, 2):
+        hits, seen = info["torus picture loop {} pixels".format(i)]
+        assert seen >= 5 and hits >= 0.8 * seen

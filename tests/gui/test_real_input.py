@@ -37,3 +37,8 @@ def test_real_click_adds_the_hovered_loop(gui_run):
 def test_screenshot_saved(gui_run):
     data = (gui_run["tmp"] / "click.png").read_bytes()
     assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 5000
+
+
+def test_picture_shows_the_clicked_loop(gui_run):
+    hits, seen = gui_run["result"]["info"]["click picture loop 1 pixels"]
+    assert seen >= 5 and hits >= 0.8 * seen
