@@ -493,6 +493,7 @@ class SelectionSuspended:
     OFF = 2  # SoFCUnifiedSelection::OFF (its HighlightModes: AUTO, ON, OFF)
 
     def __init__(self, scene):
+        self.scene = scene  # keeps the node (and so its fields) alive until restore
         self.fields = []
         for name in ("highlightMode", "selectionMode"):
             field = scene.getField(name) if scene is not None else None
@@ -506,6 +507,7 @@ class SelectionSuspended:
         for field, value in self.fields:
             field.setValue(value)
         self.fields = []
+        self.scene = None
 
 
 def _viewport_widgets():
