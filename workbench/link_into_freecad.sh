@@ -1,6 +1,9 @@
 #!/bin/sh
 # Link the StripWeave workbench into FreeCAD's user Mod folder:
-#     <Mod>/StripWeave -> <repo>/workbench
+#     <Mod>/StripWeave -> <repo>
+# the layout the Addon Manager makes (it clones the repository there): FreeCAD
+# reads <repo>/package.xml, whose workbench lives in the subdirectory
+# workbench/ (put on sys.path; it holds the namespace package freecad/stripweave_wb).
 # <Mod> is $FREECAD_USER_HOME/Mod when FREECAD_USER_HOME is set (FreeCAD then
 # uses that folder as its user data folder), else ~/.local/share/FreeCAD/Mod
 # (FreeCAD 0.20 on Linux).  Idempotent: re-running it changes nothing, a stale
@@ -9,11 +12,11 @@
 #     sh workbench/link_into_freecad.sh            # link
 #     sh workbench/link_into_freecad.sh --remove   # unlink
 #
-# FreeCAD finds the package freecad/stripweave_wb in there; the workbench adds
-# <repo>/build to sys.path itself, so build the native library first.
+# The workbench adds <repo>/build to sys.path itself, so build the native
+# library first (bash .ci/setup).
 set -eu
 
-here=$(cd "$(dirname "$0")" && pwd -P)
+here=$(cd "$(dirname "$0")/.." && pwd -P)
 if [ -n "${FREECAD_USER_HOME:-}" ]; then
     mod_dir="$FREECAD_USER_HOME/Mod"
 else
@@ -47,4 +50,4 @@ fi
 mkdir -p "$mod_dir"
 ln -s "$here" "$link"
 echo "linked $link -> $here"
-echo "start FreeCAD and pick the StripWeave workbench (the native build must exist in $(dirname "$here")/build)"
+echo "start FreeCAD and pick the StripWeave workbench (the native build must exist in $here/build: bash $here/.ci/setup)"

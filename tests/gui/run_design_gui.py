@@ -26,13 +26,18 @@ import os
 import shutil
 import sys
 import tempfile
-import threading
 import time
-import traceback
+
+import numpy as np
 
 import FreeCAD as App
 import FreeCADGui as Gui
 from PySide import QtCore, QtGui
+
+sys.path.insert(0, os.environ.get("STRIPWEAVE_GUI_TESTS") or os.path.dirname(os.path.abspath(__file__)))
+
+import gui_harness as h  # noqa: E402
+from gui_harness import check, dist, prepared, pump, report_view_text, result, wait_until  # noqa: E402,F401
 
 RESULT = os.environ.get("STRIPWEAVE_GUI_RESULT") or os.path.join(tempfile.gettempdir(), "stripweave_design_result.json")
 SHOT_TORUS = os.environ.get("STRIPWEAVE_GUI_SCREENSHOT") or "/tmp/stripweave_design_gui.png"
@@ -49,67 +54,7 @@ DESIGN_COMMANDS = ["StripWeave_NewDesign", "StripWeave_DesignStrips", "StripWeav
                    "StripWeave_ImportDesign", "StripWeave_ExportDesign"]
 CUBE_BELTS = [[(5, 5, 10, 1, 0, 0)], [(5, 3, 0, 0, 1, 0)], [(3, 0, 5, 1, 0, 0)]]
 
-result = {"ok": False, "checks": [], "info": {}, "error": None}
 EXPECTED_ERRORS = []  # (start, end) spans of the report view text where errors are the point
-_written = threading.Lock()
-
-
-def write_result_and_exit(code):
-    if _written.acquire(blocking=False):
-        try:
-            with open(RESULT, "w") as f:
-                json.dump(result, f, indent=1, sort_keys=True, default=str)
-        finally:
-            sys.stdout.flush()
-            sys.stderr.flush()
-            os._exit(code)
-
-
-def watchdog():
-    time.sleep(TIMEOUT)
-    result["error"] = "watchdog: scenario did not finish within {} s".format(TIMEOUT)
-    write_result_and_exit(3)
-
-
-def check(name, ok, detail=""):
-    result["checks"].append({"name": name, "ok": bool(ok), "detail": str(detail)})
-    App.Console.PrintMessage("GUITEST {} {}: {}\n".format("PASS" if ok else "FAIL", name, detail))
-    return bool(ok)
-
-
-def pump(seconds=0.2):
-    end = time.monotonic() + seconds
-    while time.monotonic() < end:
-        QtGui.QApplication.processEvents()
-        time.sleep(0.01)
-
-
-def wait_until(cond, timeout=60.0):
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        if cond():
-            return True
-        pump(0.05)
-    return cond()
-
-
-def report_view_text():
-    te = Gui.getMainWindow().findChild(QtGui.QTextEdit, "Report view")
-    return te.toPlainText() if te is not None else ""
-
-
-def dist(a, b):
-    return math.sqrt(sum((float(x) - float(y)) ** 2 for x, y in zip(a, b)))
-
-
-def prepared(doc, source, triangles):
-    from freecad.stripweave_wb import builder, commands
-    from freecad.stripweave_wb.surface_model import is_surface_model
-    commands.prepare_surface(source, target_triangles=triangles)
-    builder.wait_for_builds(TIMEOUT / 3)
-    pump(0.2)
-    models = [o for o in doc.Objects if is_surface_model(o) and o.Source == source]
-    return models[0] if models else None
 
 
 def screen_pick(tool, view, point):
@@ -165,13 +110,30 @@ def send_ctrl_wheel(widget, x, y, delta):
     QtGui.QApplication.sendEvent(widget, ev)
 
 
-def save_screenshot(view, path, refit=True):
+def picture_shows_the_loops(label, path, view, design):
+    """What the screenshot must show: each strip's loop in its colour."""
+    from freecad.stripweave_wb import stripe_pattern
+    d = design.Proxy.derived(design)
+    if not check(label + ": design derived", d is not None):
+        return
+    loops = [s["points"] for s in d.strips]
+    h.check_loops_in_picture(label, path, view, loops, [stripe_pattern.loop_color(i) for i in range(len(loops))],
+                             d.vertices[::max(1, len(d.vertices) // 400)], design.Shape.BoundBox.DiagonalLength
+                             or float(np.linalg.norm(np.ptp(d.vertices, axis=0))))
+
+
+def save_screenshot(view, path, refit=True, view_size=False):
+    """``view_size``: the image has the view's size, so a Coin position is
+    its pixel (for checks of what it shows); else 1024 x 768."""
     Gui.Selection.clearSelection()
     if refit:
         view.viewIsometric()
         view.fitAll()
     pump(0.5)
-    view.saveImage(path, 1024, 768, "White")
+    if view_size:
+        h.save_screenshot(view, path)
+    else:
+        view.saveImage(path, 1024, 768, "White")
     ok = os.path.isfile(path) and os.path.getsize(path) > 5000
     copy = HUMAN_COPIES.get(path)
     if ok and copy and os.path.abspath(copy) != os.path.abspath(path):
@@ -183,16 +145,10 @@ def save_screenshot(view, path, refit=True):
 
 
 def torus_scenario(doc):
-    import Part
     from freecad.stripweave_wb import design_model, design_overlay, design_tool, overlay
 
-    torus = doc.addObject("Part::Feature", "Torus")
-    torus.Shape = Part.makeTorus(10, 3)
-    doc.recompute()
+    torus = h.torus_in_view(doc)
     view = Gui.activeDocument().activeView()
-    view.viewIsometric()
-    view.fitAll()
-    pump(0.3)
     sm = prepared(doc, torus, 16000)
     if not check("torus: SurfaceModel prepared", sm is not None):
         return None
@@ -308,7 +264,8 @@ def torus_scenario(doc):
     check("overlay: two loops", ov["loop_polylines"] == 2, ov)
     check("overlay: singularity markers match the summary",
           ov["singularity_points"] == len(summary.get("singularities", [])), ov)
-    check("screenshot (torus) saved", save_screenshot(view, SHOT_TORUS), SHOT_TORUS)
+    check("screenshot (torus) saved", save_screenshot(view, SHOT_TORUS, view_size=True), SHOT_TORUS)
+    picture_shows_the_loops("torus picture", SHOT_TORUS, view, design)
     Gui.getMainWindow().grab().save(SHOT_WINDOW)  # the task panel, for a human to look at
 
     # Remove in the panel, then undo
@@ -433,20 +390,4 @@ def scenario():
     reopen_scenario(doc, [d.Name for d in (torus_design, box_design) if d is not None])
 
 
-def main():
-    code = 1
-    try:
-        scenario()
-        failed = [c["name"] for c in result["checks"] if not c["ok"]]
-        result["failed"] = failed
-        result["ok"] = not failed and bool(result["checks"])
-        code = 0 if result["ok"] else 1
-    except Exception:
-        result["error"] = traceback.format_exc()
-        App.Console.PrintError("GUITEST ERROR\n" + result["error"])
-    result["report_view_tail"] = report_view_text()[-6000:]
-    write_result_and_exit(code)
-
-
-threading.Thread(target=watchdog, name="gui-test watchdog", daemon=True).start()
-QtCore.QTimer.singleShot(200, main)
+h.run(scenario)

@@ -24,11 +24,15 @@ import sys
 import tempfile
 import threading
 import time
-import traceback
 
 import FreeCAD as App
 import FreeCADGui as Gui
 from PySide import QtCore, QtGui
+
+sys.path.insert(0, os.environ.get("STRIPWEAVE_GUI_TESTS") or os.path.dirname(os.path.abspath(__file__)))
+
+import gui_harness as h  # noqa: E402
+from gui_harness import check, pump, report_view_text, result  # noqa: E402,F401
 
 RESULT = os.environ.get("STRIPWEAVE_GUI_RESULT") or os.path.join(tempfile.gettempdir(), "stripweave_gui_result.json")
 SCREENSHOT = os.environ.get("STRIPWEAVE_GUI_SCREENSHOT") or os.path.join(tempfile.gettempdir(), "stripweave_gui_test.png")
@@ -39,43 +43,6 @@ HUMAN_COPY = "/tmp/stripweave_gui.png"
 WB = "StripWeaveWorkbench"
 CMD = "StripWeave_PrepareSurface"
 
-result = {"ok": False, "checks": [], "info": {}, "error": None}
-_written = threading.Lock()
-
-
-def write_result_and_exit(code):
-    if _written.acquire(blocking=False):
-        try:
-            with open(RESULT, "w") as f:
-                json.dump(result, f, indent=1, sort_keys=True)
-        finally:
-            sys.stdout.flush()
-            sys.stderr.flush()
-            os._exit(code)
-
-
-def watchdog():
-    time.sleep(TIMEOUT)
-    result["error"] = "watchdog: scenario did not finish within {} s".format(TIMEOUT)
-    write_result_and_exit(3)
-
-
-def check(name, ok, detail=""):
-    result["checks"].append({"name": name, "ok": bool(ok), "detail": str(detail)})
-    App.Console.PrintMessage("GUITEST {} {}: {}\n".format("PASS" if ok else "FAIL", name, detail))
-    return bool(ok)
-
-
-def pump(seconds=0.2):
-    end = time.monotonic() + seconds
-    while time.monotonic() < end:
-        QtGui.QApplication.processEvents()
-        time.sleep(0.01)
-
-
-def report_view_text():
-    te = Gui.getMainWindow().findChild(QtGui.QTextEdit, "Report view")
-    return te.toPlainText() if te is not None else ""
 
 
 def surface_models(doc):
@@ -129,6 +96,66 @@ def run_prepare(doc, obj, expect_model=True):
     return new[0] if len(new) == 1 else None
 
 
+PREFERRED_TRIANGLES = 8000
+
+
+def preferences_page():
+    """Edit > Preferences lists the StripWeave page (FreeCAD loads its
+    settings); set on the page, a default is what Prepare surface uses."""
+    from freecad.stripweave_wb import preferences
+    seen = {}
+
+    def inspect_dialog():
+        dialog = QtGui.QApplication.activeModalWidget()
+        if dialog is None:
+            QtCore.QTimer.singleShot(100, inspect_dialog)
+            return
+        page = dialog.findChild(QtGui.QWidget, "StripWeavePreferences")
+        spin = page.findChild(QtGui.QSpinBox, "TargetTriangles") if page is not None else None
+        seen["page"] = page is not None
+        seen["loaded"] = spin.value() if spin is not None else None
+        dialog.reject()
+
+    QtCore.QTimer.singleShot(300, inspect_dialog)
+    Gui.runCommand("Std_DlgPreferences")
+    pump(0.3)
+    check("preferences: the StripWeave page is in Edit > Preferences", seen.get("page"), seen)
+    check("preferences: the page shows the stored default", seen.get("loaded") == 30000, seen)
+    page = preferences._page_class()()
+    page.loadSettings()
+    page.triangles.setValue(PREFERRED_TRIANGLES)
+    page.saveSettings()
+    check("preferences: saved in the parameter tree",
+          App.ParamGet(preferences.PARAM_PATH).GetInt("TargetTriangles") == PREFERRED_TRIANGLES)
+
+
+def prepare_again(doc, box, sm):
+    """Prepare surface on a prepared part: the SurfaceModel is reused (up to
+    date), or rebuilt in place when other parameters are given."""
+    from freecad.stripweave_wb import builder, commands
+    if not check("prepare again: the box has a SurfaceModel", sm is not None):
+        return
+    n_models = len(surface_models(doc))
+    before = len(report_view_text())
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection(box)
+    Gui.runCommand(CMD)
+    pump(0.2)
+    check("prepare again: no build, no second SurfaceModel",
+          not builder.active_builds() and len(surface_models(doc)) == n_models,
+          (len(builder.active_builds()), len(surface_models(doc))))
+    check("prepare again: reported as reused", "reused" in report_view_text()[before:],
+          report_view_text()[before:][-300:])
+    check("prepare again: the SurfaceModel selected", Gui.Selection.getSelection() == [sm])
+    ctl = commands.prepare_surface(box, target_triangles=6000)
+    builder.wait_for_builds(TIMEOUT / 2)
+    pump(0.2)
+    check("prepare again with other parameters: the same SurfaceModel rebuilt",
+          ctl is not None and len(surface_models(doc)) == n_models and sm.TargetTriangles == 6000
+          and sm.Proxy.is_up_to_date(sm), (ctl, len(surface_models(doc)), sm.TargetTriangles))
+    check("prepare again: undoable", (doc.UndoNames or [None])[0] == "Prepare surface", doc.UndoNames)
+
+
 def make_parts(doc):
     import Part
     parts = {}
@@ -176,6 +203,7 @@ def scenario():
     result["info"]["stripweave"] = getattr(stripweave, "__file__", "?")
     from freecad.stripweave_wb import builder, overlay
 
+    preferences_page()
     doc = App.newDocument("StripWeaveGuiTest")
     parts = make_parts(doc)
     Gui.activeDocument().activeView().viewIsometric()
@@ -200,6 +228,8 @@ def scenario():
         check("{}: overlay boundary loops match report".format(src.Label),
               bounds is not None and bounds == report.get("boundary_loops"), (bounds, report.get("boundary_loops")))
         if key == "box":
+            check("box: built at the preferred target triangles",
+                  sm.TargetTriangles == PREFERRED_TRIANGLES, sm.TargetTriangles)
             check("box: 12 feature curves", feats == 12, feats)
             check("box: no boundary loop", bounds == 0, bounds)
         if key == "mesh":
@@ -242,10 +272,17 @@ def scenario():
     except OSError:
         pass
 
-    # 4. cancel: press Cancel in the progress panel right away
+    # 4. prepare again: the part keeps its one SurfaceModel
+    prepare_again(doc, parts["box"], models.get("box"))
+
+    # cancel: press Cancel in the progress panel right away (a part not prepared yet)
+    import Part
+    cyl = doc.addObject("Part::Feature", "Cylinder")
+    cyl.Shape = Part.makeCylinder(4, 12, App.Vector(0, 30, 0))
+    doc.recompute()
     n_models = len(surface_models(doc))
     Gui.Selection.clearSelection()
-    Gui.Selection.addSelection(parts["box"])
+    Gui.Selection.addSelection(cyl)
     Gui.runCommand(CMD)
     running = builder.active_builds()
     cancel_button = None
@@ -254,16 +291,39 @@ def scenario():
         if btn is not None:  # not shown yet: no events processed since runCommand
             cancel_button = btn
     check("cancel: Cancel button found in the task panel", cancel_button is not None)
+    t_cancel = time.monotonic()
     if cancel_button is not None:
         cancel_button.click()
     elif running and running[0].panel is not None:
         running[0].panel.reject()
     check("cancel: progress.cancel() called", bool(running) and running[0].job.cancelled)
+    if running and not running[0].job.done():
+        check("cancel: the panel stays open while the build stops",
+              bool(Gui.Control.activeDialog()) and "cancelling" in running[0].panel.stage.text(),
+              running[0].panel.stage.text())
     builder.wait_for_builds(TIMEOUT / 2)
+    result["info"]["cancel_to_stopped_s"] = round(time.monotonic() - t_cancel, 3)
     pump(0.3)
+    check("cancel: the build thread stopped", bool(running) and running[0].job.done())
     check("cancel: no SurfaceModel added", len(surface_models(doc)) == n_models)
     check("cancel: reported", "cancelled" in report_view_text())
     check("cancel: task panel closed", not Gui.Control.activeDialog())
+
+    # restart right after a cancel: the new build waits for the old one, never two at once
+    from freecad.stripweave_wb import commands
+    first = commands.prepare_surface(cyl)
+    first.cancel()
+    second = commands.prepare_surface(cyl)
+    most = 0
+    while builder.active_builds():
+        most = max(most, sum(1 for t in threading.enumerate() if t.name == "StripWeave surface build"))
+        pump(0.02)
+    pump(0.3)
+    result["info"]["restart_builds_at_once"] = most
+    check("restart: never two builds of the part at once", most == 1, most)
+    check("restart: the second build made the one SurfaceModel",
+          second is not first and len([o for o in surface_models(doc) if o.Source == cyl]) == 1,
+          [o.Label for o in surface_models(doc)])
 
     # 5. bad input: an empty shape and a wire (no faces)
     import Part
@@ -321,21 +381,4 @@ def _run_without_selection():
     return "Select exactly one" in report_view_text()[before:]
 
 
-def main():
-    code = 1
-    try:
-        scenario()
-        failed = [c["name"] for c in result["checks"] if not c["ok"]]
-        result["failed"] = failed
-        result["ok"] = not failed and bool(result["checks"])
-        code = 0 if result["ok"] else 1
-    except Exception:
-        result["error"] = traceback.format_exc()
-        App.Console.PrintError("GUITEST ERROR\n" + result["error"])
-    result["report_view_tail"] = report_view_text()[-6000:]
-    write_result_and_exit(code)
-
-
-threading.Thread(target=watchdog, name="gui-test watchdog", daemon=True).start()
-# Run from the event loop, once the main window is up.
-QtCore.QTimer.singleShot(200, main)
+h.run(scenario)

@@ -2,40 +2,18 @@
 becomes one closed wire of length 2 pi 3; undo/redo; a failing strip keeps
 the design; export/import; save/reopen.  ~15 s."""
 
-import glob
-import json
-import os
-import shutil
-import subprocess
 from pathlib import Path
 
 import pytest
 
-REPO = Path(__file__).resolve().parents[2]
-SCRIPT = REPO / "tests" / "gui" / "run_design_headless.py"
+from launch import run_headless
+
+SCRIPT = Path(__file__).resolve().parent / "run_design_headless.py"
 
 
 @pytest.fixture(scope="module")
 def run(tmp_path_factory):
-    if shutil.which("freecadcmd") is None:
-        pytest.fail("freecadcmd is not installed")
-    build = Path(os.environ.get("STRIPWEAVE_BUILD") or REPO / "build")
-    if not glob.glob(str(build / "_stripweave*.so")):
-        pytest.fail("native module not built: no _stripweave*.so in {}".format(build))
-    tmp = tmp_path_factory.mktemp("design_headless")
-    home = tmp / "freecad_home"
-    (home / "Mod").mkdir(parents=True)
-    (home / "Mod" / "StripWeave").symlink_to(REPO / "workbench")
-    env = dict(os.environ, FREECAD_USER_HOME=str(home), STRIPWEAVE_BUILD=str(build),
-               STRIPWEAVE_HEADLESS_RESULT=str(tmp / "result.json"),
-               STRIPWEAVE_HEADLESS_WORKDIR=str(tmp))
-    proc = subprocess.run(["freecadcmd", str(SCRIPT)], env=env, cwd=str(tmp),
-                          capture_output=True, text=True, timeout=300)
-    out = tmp / "result.json"
-    assert out.is_file(), proc.stdout[-3000:] + proc.stderr[-3000:]
-    r = json.loads(out.read_text())
-    assert r["error"] is None, r["error"]
-    return r
+    return run_headless(SCRIPT, tmp_path_factory.mktemp("design_headless"))
 
 
 def test_empty_design_has_no_wires(run):

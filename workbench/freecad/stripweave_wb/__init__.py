@@ -1,8 +1,9 @@
 """StripWeave workbench for FreeCAD (namespace package ``freecad.stripweave_wb``).
 
-FreeCAD finds this package through ``Mod/StripWeave -> <repo>/workbench``
-(see ``workbench/link_into_freecad.sh``) and imports ``init_gui`` when the GUI
-starts.  This module only works out where things are and makes the
+FreeCAD finds this package through ``Mod/StripWeave -> <repo>`` (the Addon
+Manager's clone, or ``workbench/link_into_freecad.sh``): <repo>/package.xml
+names ``workbench/`` as the workbench's subdirectory, which FreeCAD puts on
+``sys.path``; it imports ``init_gui`` when the GUI starts.  This module only works out where things are and makes the
 ``stripweave`` Python package and its native extension ``_stripweave``
 importable; it computes nothing.
 
@@ -72,9 +73,15 @@ def import_stripweave():
     try:
         import stripweave  # noqa: F401  (the package we are a GUI for)
     except ImportError as exc:
-        hint = "" if "cmake" in str(exc) else (
-            " Build the native library first (cmake -S {0} -B {1} && cmake --build {1}), or set "
-            "STRIPWEAVE_BUILD to the directory holding _stripweave*.so.".format(REPO_ROOT, build_dir()))
-        raise ImportError("StripWeave: cannot import the stripweave package: {}.{}".format(
-            str(exc).rstrip("."), hint)) from exc
+        raise ImportError("StripWeave: cannot import the stripweave package: {}. {}".format(
+            str(exc).rstrip("."), setup_hint())) from exc
     return stripweave
+
+
+def setup_hint():
+    """What to run when the native library is missing (the Addon Manager
+    installs the Python files only: it cannot build C++)."""
+    return ("The native library is not built: run  bash {}  in a terminal (it installs the Debian "
+            "packages it needs and builds {}/_stripweave*.so; root or sudo for apt-get), then restart "
+            "FreeCAD. Or set STRIPWEAVE_BUILD to a folder holding _stripweave*.so.".format(
+                os.path.join(REPO_ROOT, ".ci", "setup"), build_dir()))

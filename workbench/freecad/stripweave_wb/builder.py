@@ -56,14 +56,21 @@ class BuildController:
         self.timer.setInterval(POLL_MS)
         self.timer.timeout.connect(self._poll)
         self.finished = False
+        self._after = None  # an older build of the same key, still stopping
 
     def start(self):
+        """Start the build, or, while an older build of the same key is
+        still running, cancel it and start once it has stopped (two builds
+        of one source at once would compete for the cores and the result)."""
         previous = _active.get(self.key)
         if previous is not None:
             previous.cancel(quiet=True)
+            if not previous.finished:
+                self._after = previous
         _active[self.key] = self
         _install_quit_hook()
-        self.job.start()
+        if self._after is None:
+            self.job.start()
         panel = ProgressTaskPanel(self.title, on_cancel=self.cancel)
         if panel.show():
             self.panel = panel
@@ -81,6 +88,14 @@ class BuildController:
 
     def _poll(self):
         try:
+            if self._after is not None:
+                if not self._after.finished:
+                    return
+                self._after = None
+                if self.job.cancelled:  # cancelled while waiting
+                    self._finish()
+                    return
+                self.job.start()
             if not self.job.done():
                 frac, stage = self.job.fraction(), self.job.stage()
                 if self.panel is not None:
@@ -197,6 +212,11 @@ def cancel_for(obj):
     ctl = _active.get(_key(obj))
     if ctl is not None:
         ctl.cancel()
+
+
+def running_for(key):
+    """The build in progress under ``key``, or None."""
+    return _active.get(key)
 
 
 def cancel_all():

@@ -21,20 +21,33 @@ def prepare_surface(source, target_triangles=None, feature_angle_deg=None):
     worker thread; when it is done, add a SurfaceModel object to the document
     (one undoable transaction), draw its overlay and print the report.
 
+    A part prepared already keeps its one SurfaceModel: it is reused when
+    up to date, else rebuilt (with the parameters given, if any), and a part
+    being prepared with the same parameters is not prepared twice.
+
     Returns the build controller (``builder.wait_for_builds()`` waits for
-    it), or None when ``source`` cannot be used (the reason was reported).
-    With a SurfaceModel as ``source`` it is rebuilt instead.
+    it), or None when nothing needs building or ``source`` cannot be used
+    (the reason was reported).  With a SurfaceModel as ``source`` it is
+    rebuilt instead.
     """
     from . import builder, surface_model
 
     if surface_model.is_surface_model(source):
         return builder.rebuild(source)
+    existing = [o for o in source.InList if surface_model.is_surface_model(o) and o.Source == source]
+    if existing:
+        return _prepare_again(existing[0], target_triangles, feature_angle_deg)
     params = surface_model.parameter_defaults()
     if target_triangles is not None:
         params["target_triangles"] = int(target_triangles)
     if feature_angle_deg is not None:
         params["feature_angle_deg"] = float(feature_angle_deg)
     doc_name, source_name = source.Document.Name, source.Name
+    key = (doc_name, "prepare:" + source_name)
+    running = builder.running_for(key)
+    if running is not None and not running.job.cancelled and running.job.options == params:
+        messages.message("'{}' is being prepared already".format(source.Label))
+        return running
 
     def done(ctl):
         doc = App.listDocuments().get(doc_name)
@@ -55,8 +68,38 @@ def prepare_surface(source, target_triangles=None, feature_angle_deg=None):
         builder.print_report(obj, ctl, report)
 
     return builder.start_build(
-        (doc_name, "prepare:" + source_name), source, params,
+        key, source, params,
         "Preparing surface of '{}'".format(source.Label), done)
+
+
+def _prepare_again(sm, target_triangles, feature_angle_deg):
+    """Prepare surface on a part that has SurfaceModel ``sm``: set the
+    parameters given (one transaction), then rebuild it if it is not up to
+    date; selected either way."""
+    from . import builder
+    wanted = {"TargetTriangles": None if target_triangles is None else int(target_triangles),
+              "FeatureAngle": None if feature_angle_deg is None else float(feature_angle_deg)}
+    changes = {k: v for k, v in wanted.items() if v is not None and getattr(sm, k) != v}
+    if changes:
+        doc = sm.Document
+        doc.openTransaction("Prepare surface")
+        for k, v in changes.items():
+            setattr(sm, k, v)
+        doc.commitTransaction()
+        sm.purgeTouched()  # rebuilt below: a recompute must not start a second build
+    if App.GuiUp:
+        Gui.Selection.clearSelection()
+        Gui.Selection.addSelection(sm)
+    running = builder.running_for((sm.Document.Name, sm.Name))
+    if running is not None and not running.job.cancelled and not changes:
+        messages.message("'{}' is being rebuilt already".format(sm.Label))
+        return running
+    if sm.Proxy.is_up_to_date(sm):
+        messages.message("'{}' is prepared already: {} (up to date, reused)".format(
+            sm.Source.Label, sm.Label))
+        return None
+    messages.message("'{}' is prepared already: rebuilding {}".format(sm.Source.Label, sm.Label))
+    return builder.rebuild(sm)
 
 
 class PrepareSurfaceCommand:
@@ -67,6 +110,7 @@ class PrepareSurfaceCommand:
         return {
             "Pixmap": icon_path("PrepareSurface.svg"),
             "MenuText": "Prepare surface",
+            "Accel": "Y, P",
             "ToolTip": ("Prepare surface: remesh the selected Part or Mesh object for "
                         "StripWeave, find its feature curves and boundaries, and show them."),
         }

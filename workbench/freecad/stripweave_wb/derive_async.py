@@ -55,9 +55,12 @@ class _Job:
             except Exception:
                 messages.error("internal error after deriving '{}':\n{}".format(
                     self.label, traceback.format_exc()), dialog=False)
-        if obj is not None and self.error is None and self.then_recompute:
-            obj.touch()
-            obj.Document.recompute()
+        if obj is not None and self.error is None:
+            if self.then_recompute:
+                obj.touch()
+                obj.Document.recompute()
+            else:
+                obj.Proxy.refresh_outputs(obj)  # Status and StripCount as derived now
 
     def _poll(self):
         try:

@@ -1,6 +1,8 @@
 """GUI commands for designs: New design, Design strips, Remove strip,
 Import design..., Export design... (registered with FreeCADGui.addCommand
-on import; one class per command).  Every change to a design is one document
+on import; one class per command; shortcuts "Y, N", "Y, D", "Y, R", "Y, I",
+"Y, E", and "Y, P" for Prepare surface: FreeCAD's built-in workbenches use
+no "Y, _" sequence).  Every change to a design is one document
 transaction, so Undo/Redo work."""
 
 import os
@@ -88,7 +90,7 @@ class NewDesignCommand:
     """New design: an empty Design on the selected SurfaceModel."""
 
     def GetResources(self):
-        return {"Pixmap": icon_path("NewDesign.svg"), "MenuText": "New design",
+        return {"Pixmap": icon_path("NewDesign.svg"), "Accel": "Y, N", "MenuText": "New design",
                 "ToolTip": "New design: start an empty strip design on the selected surface model "
                            "(or on the surface model of the selected part)."}
 
@@ -112,9 +114,10 @@ class DesignStripsCommand:
     """Design strips: the interactive tool (hover, Ctrl+wheel, click)."""
 
     def GetResources(self):
-        return {"Pixmap": icon_path("DesignStrips.svg"), "MenuText": "Design strips",
-                "ToolTip": "Design strips: hover the surface to see the best strip through the cursor, "
-                           "Ctrl+wheel to browse alternatives, click to add it. Works on the selected design "
+        return {"Pixmap": icon_path("DesignStrips.svg"), "Accel": "Y, D", "MenuText": "Design strips",
+                "ToolTip": "Design strips (Y, D): hover the surface to see the best strip through the cursor, "
+                           "Ctrl+wheel or Page Down / Page Up to browse alternatives, click to add it, Esc to end. "
+                           "Works on the selected design "
                            "(a new one is made on a selected surface model without designs)."}
 
     def IsActive(self):
@@ -139,7 +142,7 @@ class RemoveStripCommand:
     """Remove strip: pick one of the selected design's strips and remove it."""
 
     def GetResources(self):
-        return {"Pixmap": icon_path("RemoveStrip.svg"), "MenuText": "Remove strip",
+        return {"Pixmap": icon_path("RemoveStrip.svg"), "Accel": "Y, R", "MenuText": "Remove strip",
                 "ToolTip": "Remove strip: remove a strip of the selected design (the one whose loop edge "
                            "is selected, or one chosen from a list). Undoable."}
 
@@ -201,7 +204,7 @@ class ImportDesignCommand:
     new Design on the selected SurfaceModel)."""
 
     def GetResources(self):
-        return {"Pixmap": icon_path("ImportDesign.svg"), "MenuText": "Import design...",
+        return {"Pixmap": icon_path("ImportDesign.svg"), "Accel": "Y, I", "MenuText": "Import design...",
                 "ToolTip": "Import design: replace the selected design by a design file (JSON), or start a "
                            "new design from it on the selected surface model. Undoable."}
 
@@ -244,7 +247,7 @@ class ExportDesignCommand:
     """Export design...: write the selected Design as a design file."""
 
     def GetResources(self):
-        return {"Pixmap": icon_path("ExportDesign.svg"), "MenuText": "Export design...",
+        return {"Pixmap": icon_path("ExportDesign.svg"), "Accel": "Y, E", "MenuText": "Export design...",
                 "ToolTip": "Export design: save the selected design as a design file (JSON) for the "
                            "stripweave command line or another model."}
 

@@ -49,10 +49,12 @@ def designs_of(surface_model):
 
 
 def new_design_dict(surface_model=None):
-    """An empty design file, with the model it is made on when known."""
+    """An empty design file, with the model it is made on when known, and
+    the boundary mode of the preferences."""
     import_stripweave()
     from stripweave.design import Design
-    d = Design()
+    from . import preferences
+    d = Design(options={"boundary": preferences.boundary_mode()})
     if surface_model is not None:
         d.model = _model_info(surface_model)
         d.options["feature_angle_deg"] = float(surface_model.FeatureAngle)
@@ -200,9 +202,17 @@ class DesignModel:
         import Part
         sm = obj.Surface
         if sm is None or not is_surface_model(sm):
+            # Its SurfaceModel was deleted (or never linked): say so once, in
+            # one line; raising would print a traceback for a user's action.
             obj.Shape = Part.Shape()
-            obj.Status = "error: no SurfaceModel linked"
-            raise ValueError("StripWeave: design '{}' has no SurfaceModel".format(obj.Label))
+            obj.StripCount = 0
+            status = ("error: no SurfaceModel linked: the design keeps its strips; link a SurfaceModel in its "
+                      "Surface property (or undo the deletion)")
+            if obj.Status != status:
+                obj.Status = status
+                messages.error("design '{}' has no surface model: {}".format(obj.Label, status[7:]),
+                               dialog=False)
+            return
         if App.GuiUp and self.surface_if_ready(obj) is None:
             # The surface is (re)built on a worker thread; derive and publish
             # when it is there instead of freezing the GUI in a recompute.
@@ -229,6 +239,18 @@ class DesignModel:
         obj.StripCount = len(derived.strips)
         obj.Status = status_text(derived)
         obj.Summary = json.dumps(derived.summary())
+
+    def refresh_outputs(self, obj):
+        """Publish the current snapshot if the stored outputs differ from it
+        (after a background derivation: a reopened document shows what was
+        saved until the design is derived again).  True if it published."""
+        derived = self.derived(obj)
+        if derived is None:
+            return False
+        if obj.Status == status_text(derived) and obj.StripCount == len(derived.strips):
+            return False
+        self.publish(obj, derived)
+        return True
 
     def summary(self, obj):
         """The stored Summary as a dict ({} if none)."""

@@ -24,6 +24,34 @@ import numpy as np
 
 from . import import_stripweave
 from .lift import NormalLift
+from .loop_match import loop_gap, same_loop_tolerance
+
+# Where on a proposed loop to take directional anchors (fractions of its
+# points), after the one nearest the hovered point.  The design's loop search
+# from one g' node of an alternative often finds the alternative again, but
+# not always: an alternative (the k-th best loop through a point) need not be
+# the best loop through any one of its nodes.  Two or three of its nodes
+# together pin it (generated box and cylinder, 48 alternatives: one anchor
+# reproduced 35, one to three all 48).
+ANCHOR_SAMPLES = (0.25, 0.5, 0.75)
+
+
+def anchor_sets(anchors):
+    """The anchor sets to try for a proposal with ``anchors`` (nearest the
+    hovered point first, then at ANCHOR_SAMPLES): each alone, then the nearest
+    with the opposite one, then the nearest with the two quarter points.
+    Fewer anchors first: a one-anchor search is the fastest, and a strip with
+    fewer anchors is easier to edit."""
+    sets = [[a] for a in anchors]
+    if len(anchors) == 4:
+        sets += [[anchors[0], anchors[2]], [anchors[0], anchors[1], anchors[3]]]
+    return sets
+
+
+def _native():
+    import_stripweave()
+    from stripweave._native import native
+    return native
 
 
 def design_key(design, features):
@@ -36,6 +64,17 @@ def loop_options_key(design):
     """The options the loop engine (elastica graph) is built with: changing
     them needs a new LoopSession (a graph build), the rest only an update."""
     return json.dumps(design.loop_options(), sort_keys=True)
+
+
+# The options the native DesignState is made with (its constructor and its
+# compatibility settings, §6.2): an imported design that differs in them
+# needs a new DesignState, or its strips are searched under the old mask
+# rules (a woven design's band and 60-degree angle refused 6 of 10 strips).
+STATE_OPTIONS = ("boundary", "compatibility_band", "compatibility_angle_deg")
+
+
+def state_options_key(design):
+    return json.dumps({k: design.options.get(k) for k in STATE_OPTIONS}, sort_keys=True)
 
 
 class Derived:
@@ -115,6 +154,7 @@ class SessionCache:
         self.session = None
         self.surface = None
         self._loop_key = None
+        self._state_key = None
         self._features = None
         self.applied_key = None      # design_key of what the session reflects
         self._mask_key = None        # (session, revision) whose mask the loop engine holds
@@ -146,13 +186,67 @@ class SessionCache:
                 with self._flag_lock:
                     self._querying = False
 
-    def best_loop(self, point):
-        """The hover query: what ``DesignSession.best_loop`` answers."""
-        return self.query(lambda ls: ls.best_loop(point))
+    def proposals(self, point, alternatives=1):
+        """What the design tool shows through ``point``: with alternatives
+        1 the hover query (the best loop over all directions), else up to
+        that many ranked alternatives.  Each is a dict as
+        ``LoopSession.describe`` plus ``anchors``: directional anchors on the
+        loop (native ``loop_anchor``, the one nearest ``point`` first) from
+        which :meth:`add_shown` tries to derive it again.  Interruptible."""
+        native = _native()
+        point = [float(c) for c in point][:3]
 
-    def loops(self, anchors, alternatives=1):
-        """Ranked compatible loops: what ``DesignSession.loops`` answers."""
-        return self.query(lambda ls: ls.loops(anchors, alternatives))
+        def run(ls):
+            if alternatives <= 1:
+                loops = [ls.native.best_loop(point, True)]
+            else:
+                loops = ls.native.loops([point], int(alternatives), True)
+            out = []
+            for loop in loops:
+                d = ls.describe(loop)
+                pts = d["points"]
+                samples = [point] + [pts[int(f * len(pts))] for f in ANCHOR_SAMPLES if pts]
+                d["anchors"] = [list(native.loop_anchor(ls.native, loop, list(p))) for p in samples]
+                out.append(d)
+            return out
+        return self.query(run)
+
+    def reproducing_anchors(self, anchors, shown):
+        """The first of ``anchor_sets(anchors)`` from which the design's own
+        loop search (what adding a strip derives: one loop through the
+        anchors, under the current compatibility mask) finds the polyline
+        ``shown`` again, with its gap; (None, smallest gap) if none does.
+        Not interruptible: it decides an edit."""
+        sw = import_stripweave()
+        with self.lock:
+            self._require()
+            self._apply_mask()
+            tolerance = same_loop_tolerance(self.session.surface.vertices)
+            best_gap = float("inf")
+            for candidate in anchor_sets([list(a) for a in anchors]):
+                try:
+                    found = self.session.loop_session.loops(candidate, 1)
+                except sw.InputError:
+                    continue
+                gap = loop_gap(found[0]["points"], shown) if found else float("inf")
+                if gap <= tolerance:
+                    return candidate, gap
+                best_gap = min(best_gap, gap)
+            return None, best_gap
+
+    def add_shown(self, anchors, shown):
+        """Add the strip whose loop is the polyline ``shown`` (a proposal with
+        these ``anchors``), from the first anchor set that derives it again;
+        InputError (nothing added) if none does.  Returns (design dict,
+        snapshot)."""
+        sw = import_stripweave()
+        with self.lock:
+            candidate, gap = self.reproducing_anchors(anchors, shown)
+            if candidate is None:
+                raise sw.InputError(
+                    "no anchors on the loop shown make the design derive it (the nearest derived loop is "
+                    "{:.3g} away): choose another alternative or another point".format(gap))
+            return self.add_strip(candidate)
 
     def _apply_mask(self):
         # DesignSession.best_loop/loops recompute the mask for every query
@@ -188,17 +282,19 @@ class SessionCache:
         with self.lock:
             key = design_key(design, features)
             loop_key = loop_options_key(design)
+            state_key = state_options_key(design)
             if (self.session is None or self.surface is not surface or self._loop_key != loop_key
-                    or self._features != bool(features)):
+                    or self._features != bool(features) or self._state_key != state_key):
                 reuse = None
                 if self.session is not None and self.surface is surface and self._loop_key == loop_key:
-                    reuse = self.session.loop_session  # only Features changed: keep the graph
+                    reuse = self.session.loop_session  # Features or compatibility changed: keep the graph
                 # Built empty, then updated: a failing strip must not lose the session.
                 self.session = DesignSession(surface, Design(options=design.options), loop_session=reuse,
                                              features=bool(features))
                 self.surface = surface
                 self._loop_key = loop_key
                 self._features = bool(features)
+                self._state_key = state_key
                 self._mesh = None
                 self.applied_key = None
             if key == self.applied_key and self.derived is not None:

@@ -2,12 +2,19 @@
 
 * hovering the surface shows the best compatible loop through the point
   under the cursor (``DesignSession.best_loop``), as a highlighted line;
-* Ctrl+wheel browses the alternatives through that point, best first
-  (``DesignSession.loops([point], alternatives=6)``); the plain wheel still
-  zooms;
-* a click adds the strip: the picked point as a positional anchor, or, when
-  an alternative other than the best is shown, with that loop's tangent at
-  the point as its direction (one undoable transaction);
+* Ctrl+wheel (or Page Down / Page Up) browses the alternatives through that
+  point, best first (``DesignSession.loops([point], alternatives=6)``); the
+  plain wheel still zooms;
+* a click adds the strip shown, exactly that loop: from the first of its
+  directional anchors (native ``loop_anchor``: a g' node of the loop, the
+  one nearest the point first) from which the design's loop search derives
+  the same loop again, verified by that search before the design changes
+  (one undoable transaction; nothing is added, and the panel says why, if
+  no anchor reproduces it).  A click where nothing is shown adds the loop
+  through the picked point as a positional anchor.  The tool owns the
+  click: while it runs, FreeCAD's preselection and selection are off in its
+  view (``SelectionSuspended``), and the press and the release of a click
+  on the model are both marked handled, so neither selects the part;
 * the task panel lists the strips with Remove buttons, the singularities and
   fold-overs; Close or Esc ends the tool.
 
@@ -23,7 +30,8 @@ Scriptable (tests, macros)::
     tool.hover_screen(x, y)      # what the mouse-move callback calls
     tool.hover_point((13, 0, 0)) # the same, without picking
     tool.wait_idle(); tool.preview_point_count()
-    tool.browse(+1); tool.click_screen(x, y) / tool.add_at(point); tool.close()
+    tool.browse(+1); tool.shown_proposal()
+    tool.click_screen(x, y) / tool.add_at(point); tool.close()
 """
 
 import time
@@ -72,22 +80,44 @@ def start(obj):
     return tool
 
 
+# Keyboard browsing, for users without a wheel: the next (worse) or previous alternative.
+BROWSE_KEYS = {QtCore.Qt.Key_PageDown: 1, QtCore.Qt.Key_PageUp: -1}
+
+
 class _ViewEventFilter(QtCore.QObject):
-    """Qt filter on the 3D viewport: Ctrl+wheel browses (and does not zoom),
-    Esc closes the tool."""
+    """Qt filter on the 3D viewport: Ctrl+wheel and Page Down / Page Up
+    browse (and do not zoom), Esc closes the tool."""
 
     def __init__(self, tool):
         super().__init__()
         self.tool = tool
+        self._last = None
+
+    def _first_sight(self, event, what):
+        """The view (a QGraphicsView) is handed its viewport's events too:
+        one notch or key press reaches both filtered widgets, with one
+        timestamp.  True the first time."""
+        stamp = (event.type(), event.timestamp(), what)
+        if stamp == self._last:
+            return False
+        self._last = stamp
+        return True
 
     def eventFilter(self, watched, event):
         try:
-            if event.type() == QtCore.QEvent.Wheel and (event.modifiers() & QtCore.Qt.ControlModifier):
-                delta = event.angleDelta().y() if hasattr(event, "angleDelta") else event.delta()
-                if delta:
+            kind = event.type()
+            if kind == QtCore.QEvent.Wheel and (event.modifiers() & QtCore.Qt.ControlModifier):
+                delta = event.angleDelta().y()
+                if delta and self._first_sight(event, delta):
                     self.tool.browse(1 if delta < 0 else -1)  # wheel down: next, worse alternative
                 return True
-            if event.type() == QtCore.QEvent.KeyPress and event.key() == QtCore.Qt.Key_Escape:
+            if kind in (QtCore.QEvent.KeyPress, QtCore.QEvent.KeyRelease) and event.key() in BROWSE_KEYS:
+                # FreeCAD's navigation styles zoom on Page Up / Page Down,
+                # some on the release too: both are the tool's while it runs.
+                if kind == QtCore.QEvent.KeyPress and self._first_sight(event, event.key()):
+                    self.tool.browse(BROWSE_KEYS[event.key()])
+                return True
+            if kind == QtCore.QEvent.KeyPress and event.key() == QtCore.Qt.Key_Escape:
                 QtCore.QTimer.singleShot(0, self.tool.close)
                 return True
         except Exception:
@@ -119,6 +149,7 @@ class DesignTool:
         self._filter = _ViewEventFilter(self)
         self._filtered = []
         self._scene = None
+        self._selection = None
         self.timer = QtCore.QTimer()
         self.timer.setInterval(POLL_MS)
         self.timer.timeout.connect(self._poll)
@@ -132,6 +163,7 @@ class DesignTool:
         obj = self.obj()
         self._scene = self.view.getSceneGraph()
         self._scene.addChild(self.preview.root)
+        self._selection = SelectionSuspended(self._scene)
         for cls, fn in ((coin.SoLocation2Event, self._on_move), (coin.SoMouseButtonEvent, self._on_button),
                         (coin.SoKeyboardEvent, self._on_key)):
             self._callbacks.append((cls, self.view.addEventCallbackPivy(cls.getClassTypeId(), fn)))
@@ -165,6 +197,9 @@ class DesignTool:
             except RuntimeError:
                 pass
         self._filtered = []
+        if self._selection is not None:
+            self._selection.restore()
+            self._selection = None
         if self._scene is not None:
             self._scene.removeChild(self.preview.root)
             self._scene = None
@@ -206,21 +241,26 @@ class DesignTool:
         self.hover_screen(int(pos[0]), int(pos[1]))
 
     def _on_button(self, event_cb):
+        """A left click that starts on the model belongs to the tool: its
+        press and its release are both handled here (a release left to the
+        scene graph would reach FreeCAD's selection), and a release within
+        CLICK_TOLERANCE_PX of the press adds the strip.  Other buttons, and
+        clicks that start off the model, go on to the navigation style."""
         ev = event_cb.getEvent()
         if ev.getButton() != coin.SoMouseButtonEvent.BUTTON1:
             return
         pos = ev.getPosition()
         x, y = int(pos[0]), int(pos[1])
         if ev.getState() == coin.SoButtonEvent.DOWN:
-            self._press = (x, y)
-            if self.pick(x, y) is not None:
-                event_cb.setHandled()  # the tool owns left clicks on the model (no selection)
+            self._press = (x, y) if self.pick(x, y) is not None else None
+            if self._press is not None:
+                event_cb.setHandled()
         elif ev.getState() == coin.SoButtonEvent.UP and self._press is not None:
             px, py = self._press
             self._press = None
+            event_cb.setHandled()
             if abs(x - px) <= CLICK_TOLERANCE_PX and abs(y - py) <= CLICK_TOLERANCE_PX:
-                if self.click_screen(x, y):
-                    event_cb.setHandled()
+                self.click_screen(x, y)
 
     def _on_key(self, event_cb):
         ev = event_cb.getEvent()
@@ -282,22 +322,26 @@ class DesignTool:
         return self.add_at(point)
 
     def add_at(self, point):
-        """Add the strip through ``point``: positional, or with the tangent
-        of the alternative shown (when it is not the best)."""
+        """Add the strip shown (when ``point`` is near the hovered point), or
+        the strip through ``point`` as a positional anchor."""
         obj = self.obj()
         if self.worker is None or obj is None or self.add_serial is not None:
             return False
-        anchor = list(map(float, point))
-        if self.index > 0 and self.index < len(self.proposals) and self._near(point):
-            tangent = loop_tangent(self.proposals[self.index]["points"], point,
-                                   self.proposals[self.index].get("closed", True))
-            if tangent is not None:
-                anchor += list(tangent)
+        shown = self.shown_proposal() if self._near(point) else None
         self.add_base = obj.DesignJson
-        self.add_serial = self.worker.add_strip([anchor])
+        if shown is not None:
+            self.add_serial = self.worker.add_strip(shown["anchors"], shown=shown["points"])
+        else:
+            self.add_serial = self.worker.add_strip([list(map(float, point))])
         self.panel.set_busy(True)
         self.panel.set_status("adding the strip ...")
         return True
+
+    def shown_proposal(self):
+        """The proposal the preview shows (a dict as SessionCache.proposals), or None."""
+        if self.proposals and 0 <= self.index < len(self.proposals) and self.preview_point_count():
+            return self.proposals[self.index]
+        return None
 
     def remove(self, index):
         obj = self.obj()
@@ -434,22 +478,36 @@ class DesignTool:
         return False
 
 
-def loop_tangent(points, point, closed=True):
-    """Unit tangent of the polyline ``points`` at its point nearest ``point``."""
-    pts = np.asarray(points, dtype=float).reshape(-1, 3)
-    if len(pts) < 2:
-        return None
-    j = int(np.argmin(np.linalg.norm(pts - np.asarray(point, dtype=float), axis=1)))
-    n = len(pts)
-    if closed:
-        prev, nxt = pts[(j - 1) % n], pts[(j + 1) % n]
-        if np.allclose(pts[0], pts[-1]) and j in (0, n - 1):  # repeated closing point
-            prev, nxt = pts[-2], pts[1]
-    else:
-        prev, nxt = pts[max(j - 1, 0)], pts[min(j + 1, n - 1)]
-    t = nxt - prev
-    norm = float(np.linalg.norm(t))
-    return tuple(t / norm) if norm > 0 else None
+class SelectionSuspended:
+    """Preselection and selection off in one view while a tool runs.
+
+    FreeCAD's selection node (SoFCUnifiedSelection, the root of the view's
+    scene graph) handles a button release before the event reaches any
+    event callback below it, and marks it handled when the cursor is over a
+    part: the tool would see the press but never the release, and the click
+    would select the part.  Its ``highlightMode`` and ``selectionMode``
+    fields switch both off for this view only (what FreeCAD's own
+    EnablePreselection / EnableSelection preferences set, without touching
+    the user's parameters); :meth:`restore` puts the old values back."""
+
+    OFF = 2  # SoFCUnifiedSelection::OFF (its HighlightModes: AUTO, ON, OFF)
+
+    def __init__(self, scene):
+        self.scene = scene  # keeps the node (and so its fields) alive until restore
+        self.fields = []
+        for name in ("highlightMode", "selectionMode"):
+            field = scene.getField(name) if scene is not None else None
+            if field is not None:
+                self.fields.append((field, field.getValue()))
+                field.setValue(self.OFF)
+        Gui.Selection.clearPreselection()
+        Gui.Selection.clearSelection()
+
+    def restore(self):
+        for field, value in self.fields:
+            field.setValue(value)
+        self.fields = []
+        self.scene = None
 
 
 def _viewport_widgets():

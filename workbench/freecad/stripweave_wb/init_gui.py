@@ -17,16 +17,33 @@ class StripWeaveWorkbench(Gui.Workbench):
         return "Gui::PythonWorkbench"
 
     def Initialize(self):
-        from . import commands
+        from . import commands, preferences
 
         self.appendToolbar("StripWeave", commands.COMMANDS)
         self.appendMenu("StripWeave", commands.COMMANDS)
+        preferences.register_page()
 
     def Activated(self):
-        pass
+        native_library_check()
 
     def Deactivated(self):
         pass
 
 
+def native_library_check():
+    """Say what to run when the native library cannot be imported (once per
+    session): the report view and a message box.  True if it imports."""
+    from . import import_stripweave, messages
+    global _checked
+    try:
+        import_stripweave()
+        return True
+    except ImportError as exc:
+        if not _checked:
+            messages.error(str(exc))
+        _checked = True
+        return False
+
+
+_checked = False
 Gui.addWorkbench(StripWeaveWorkbench())

@@ -37,13 +37,16 @@ def _in_main_window(widget):
 class ProgressTaskPanel:
     """``Gui.Control`` task panel: title, progress bar, stage, elapsed time.
 
-    ``on_cancel`` is called (once) when the user presses Cancel (or Esc).
+    ``on_cancel`` is called (once) when the user presses Cancel (or Esc);
+    the panel then stays open, saying "cancelling", until the builder closes
+    it when the work has really stopped (a second Cancel closes it at once).
     """
 
     def __init__(self, title, on_cancel):
         self._on_cancel = on_cancel
         self._started = time.monotonic()
         self.closed = False
+        self.cancelling = False
         self.form = QtGui.QWidget()
         self.form.setObjectName("StripWeaveProgressPanel")
         self.form.setWindowTitle("StripWeave")
@@ -68,18 +71,22 @@ class ProgressTaskPanel:
         return int(QtGui.QDialogButtonBox.Cancel)
 
     def reject(self):
-        self.closed = True
         cb, self._on_cancel = self._on_cancel, None
-        if cb is not None:
-            cb()
-        return True
+        if cb is None:  # the second Cancel: the user does not want to wait
+            self.closed = True
+            return True
+        cb()
+        self.cancelling = True
+        if _is_alive(getattr(self, "form", None)):
+            self.stage.setText("cancelling: stopping the build ...")
+        return False
 
     def accept(self):
         return self.reject()
 
     # -- driven by the builder's timer -------------------------------------------
     def update(self, fraction, stage):
-        if self.closed or not _is_alive(getattr(self, "form", None)):
+        if self.closed or self.cancelling or not _is_alive(getattr(self, "form", None)):
             return
         self.bar.setValue(int(round(1000 * max(0.0, min(1.0, fraction)))))
         self.stage.setText(stage or "working")

@@ -7,7 +7,9 @@ Two kinds of requests:
   alternatives through it).  Only the newest is kept: submitting one drops
   the pending one and interrupts the running one (the native query raises
   Cancelled), so the cursor never waits for stale work;
-* edits (add a strip), run in order, never dropped nor interrupted.
+* edits (add a strip: through given anchors, or the loop shown, from the
+  first candidate anchor that derives it again), run in order, never
+  dropped nor interrupted.
 
 Results are collected in a list the GUI thread takes with
 :meth:`QueryWorker.take_results` (from a QTimer poll); each carries its
@@ -66,11 +68,15 @@ class QueryWorker:
         self.cache.interrupt()
         return serial
 
-    def add_strip(self, anchors):
-        """Queue adding a strip through ``anchors``; returns its serial."""
+    def add_strip(self, anchors, shown=None):
+        """Queue adding a strip through ``anchors``, or, given ``shown`` (the
+        polyline of the proposal shown), the strip of that loop from the
+        first of the candidate ``anchors`` that derives it again; returns
+        its serial."""
         with self._cond:
             self._serial += 1
-            self._edits.append(Request(self._serial, "add", [list(a) for a in anchors]))
+            args = ([list(a) for a in anchors], None if shown is None else [list(p) for p in shown])
+            self._edits.append(Request(self._serial, "add", args))
             self._proposal = None  # computed before the edit: stale anyway
             self._cond.notify()
             serial = self._serial
@@ -132,12 +138,12 @@ class QueryWorker:
 
     def _execute(self, req):
         if req.kind == "add":
-            data, derived = self.cache.add_strip(req.args)
+            anchors, shown = req.args
+            if shown is None:
+                data, derived = self.cache.add_strip(anchors)
+            else:
+                data, derived = self.cache.add_shown(anchors, shown)
             return Result(req, value=data, revision=derived.revision)
         point, alternatives = req.args
-        if req.kind == "best":
-            loop, revision = self.cache.best_loop(point)
-            value = [loop]
-        else:
-            value, revision = self.cache.loops([point], alternatives)
+        value, revision = self.cache.proposals(point, alternatives if req.kind == "alternatives" else 1)
         return Result(req, value=value, revision=revision)

@@ -75,12 +75,9 @@ def is_surface_model(obj):
 
 
 def parameter_defaults():
-    """Defaults from the user parameters (Preferences/Mod/StripWeave)."""
-    grp = App.ParamGet("User parameter:BaseApp/Preferences/Mod/StripWeave")
-    return {
-        "target_triangles": grp.GetInt("TargetTriangles", DEFAULT_TARGET_TRIANGLES),
-        "feature_angle_deg": grp.GetFloat("FeatureAngle", DEFAULT_FEATURE_ANGLE_DEG),
-    }
+    """Defaults from the user parameters (preferences.py: Edit > Preferences > StripWeave)."""
+    from . import preferences
+    return {"target_triangles": preferences.target_triangles(), "feature_angle_deg": preferences.feature_angle()}
 
 
 class SurfaceModel:
@@ -311,8 +308,14 @@ class ViewProviderSurfaceModel:
             ov.boundaries.set_line_width(vobj.CurveWidth)
 
     def onDelete(self, vobj, subelements):
-        from . import builder
+        from . import builder, design_model
         builder.cancel_for(vobj.Object)
+        users = [d.Label for d in design_model.designs_of(vobj.Object)]
+        if users:
+            messages.warning("SurfaceModel '{}' deleted: {} no surface model now; undo, or link another "
+                             "SurfaceModel in the Surface property".format(
+                                 vobj.Object.Label, ", ".join("'{}'".format(u) for u in users)
+                                 + (" has" if len(users) == 1 else " have")))
         return True
 
     def doubleClicked(self, vobj):

@@ -14,9 +14,7 @@ import traceback
 import FreeCAD as App
 
 from . import import_stripweave
-
-DEFAULT_TARGET_TRIANGLES = 30000
-DEFAULT_FEATURE_ANGLE_DEG = 30.0
+from .preferences import DEFAULT_FEATURE_ANGLE_DEG, DEFAULT_TARGET_TRIANGLES  # noqa: F401 (re-exported)
 
 
 class SourceError(ValueError):
