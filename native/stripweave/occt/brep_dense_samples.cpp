@@ -2,7 +2,7 @@
 // as exact samples for measuring a fit (surfacing/fit_deviation.h).
 //
 // dense_samples(spacing, chord)
-//   BRepMesh (edges at a linear deflection of 2 * chord, the interior at 16
+//   BRepMesh (edges at a linear deflection of 4 * chord, the interior at 16
 //   * chord) gives each face triangles with (u, v) nodes. Each triangle is subdivided n x n in its (u, v) (n
 //   from its longest 3D edge over `spacing`), every sub-triangle vertex
 //   evaluated on the face's surface; where a sub-triangle's centroid (the
@@ -112,8 +112,10 @@ FaceSamples sample_face(const TopoDS_Face& face, Index f, double spacing, double
       x[k] = value_at(surface, uv[k]);
     }
     const double longest = std::max({(x[1] - x[0]).norm(), (x[2] - x[1]).norm(), (x[0] - x[2]).norm()});
+    // The samples: `spacing` apart. The tessellation: as fine as `chord` asks.
     int n = std::clamp(static_cast<int>(std::ceil(longest / spacing)), 1, kMaxSubdivision);
-    Subdivided d = subdivide(surface, uv, n);
+    const Subdivided coarse = subdivide(surface, uv, n);
+    Subdivided d = coarse;
     while (d.max_chord > chord && n < kMaxSubdivision) {
       n = std::min(kMaxSubdivision, std::max(n + 1, static_cast<int>(std::ceil(1.1 * n * std::sqrt(d.max_chord / chord)))));
       d = subdivide(surface, uv, n);
@@ -121,12 +123,22 @@ FaceSamples sample_face(const TopoDS_Face& face, Index f, double spacing, double
     const Index base = s.mesh.num_vertices();
     s.mesh.positions.insert(s.mesh.positions.end(), d.xyz.begin(), d.xyz.end());
     s.uv.insert(s.uv.end(), d.uv.begin(), d.uv.end());
-    for (size_t k = 0; k < d.tris.size(); ++k) {
-      const Tri& q = d.tris[k];
+    auto area = [](const Subdivided& z, const Tri& q) {
+      return 0.5 * (z.xyz[q[1]] - z.xyz[q[0]]).cross(z.xyz[q[2]] - z.xyz[q[0]]).norm();
+    };
+    double fine_area = 0, coarse_area = 0;
+    for (const Tri& q : d.tris) {
       s.mesh.triangles.push_back({base + q[0], base + q[1], base + q[2]});
       s.face.push_back(f);
-      s.points.push_back(d.centre[k]);
-      s.area.push_back(0.5 * (d.xyz[q[1]] - d.xyz[q[0]]).cross(d.xyz[q[2]] - d.xyz[q[0]]).norm());
+      fine_area += area(d, q);
+    }
+    for (const Tri& q : coarse.tris) coarse_area += area(coarse, q);
+    // Each sample's weight: its coarse triangle's area, scaled to the fine
+    // tessellation's (the better estimate of the curved area).
+    const double scale = coarse_area > 0 ? fine_area / coarse_area : 0.0;
+    for (size_t k = 0; k < coarse.tris.size(); ++k) {
+      s.points.push_back(coarse.centre[k]);
+      s.area.push_back(scale * area(coarse, coarse.tris[k]));
     }
     s.max_chord = std::max(s.max_chord, d.max_chord);
   }
@@ -142,10 +154,10 @@ BrepDenseSamples BrepSource::dense_samples(double spacing, double chord) const {
     // Edges fine (their polygons bound the samples' reach), the interior
     // coarse: the subdivision below refines it at a fraction of the cost.
     IMeshTools_Parameters parameters;
-    parameters.Deflection = 2 * chord;
-    parameters.Angle = 0.35;
+    parameters.Deflection = 4 * chord;
+    parameters.Angle = 1.0;
     parameters.DeflectionInterior = 16 * chord;
-    parameters.AngleInterior = 0.5;
+    parameters.AngleInterior = 1.0;
     parameters.Relative = false;
     parameters.InParallel = false;
     BRepMesh_IncrementalMesh mesher(s.shape, parameters);

@@ -72,15 +72,16 @@ struct BrepTessellation {
 
 // The source B-rep densely sampled (model units): every face's BRepMesh
 // triangles subdivided in their (u, v) until no sub-triangle is longer than
-// `spacing` and none deviates from the surface by more than `chord` at its
-// centroid; every mesh vertex evaluated exactly on its face's surface at its
+// `spacing` (the samples, at those sub-triangles' centroids), and further
+// until none deviates from the surface by more than `chord` at its centroid
+// (the mesh); every point evaluated exactly on its face's surface at its
 // (u, v). Faces are not welded to each other (distances need no topology).
 struct BrepDenseSamples {
   TriangleMesh mesh;                 // vertices exactly on the source
   std::vector<Vec2> uv;              // per mesh vertex, its face's (u, v)
   std::vector<Index> face;           // per mesh triangle, its B-rep face
-  std::vector<Vec3> points;          // per mesh triangle: the exact surface point at its centroid's (u, v)
-  std::vector<double> area;          // per mesh triangle (the sample's weight)
+  std::vector<Vec3> points;          // the samples, exactly on the source
+  std::vector<double> area;          // per sample, its weight
   double max_chord = 0;              // largest centroid deviation of a triangle from its surface point
   Index unmeshed_faces = 0;          // faces BRepMesh gave no triangles (no samples)
   double unmeshed_area = 0;          // their area (BRepGProp)

@@ -54,8 +54,12 @@ PatchGrid grid_of(const BSplinePatch& patch, int nu, int nv, bool chords) {
 
 PatchGrid patch_grid(const BSplinePatch& patch, double spacing, double chord, int per_span) {
   auto count = [&](int spans, int d) {
-    const double by_length = spacing > 0 ? std::ceil(control_length(patch, d) / spacing) : 0.0;
-    return std::clamp(static_cast<int>(std::max<double>(per_span * spans, by_length)), 1, kMaxGridSamples);
+    double n = per_span * spans;
+    if (spacing > 0) {
+      const double length = control_length(patch, d);
+      n = std::max(std::ceil(length / spacing), std::min(n, std::ceil(4 * length / spacing)));
+    }
+    return std::clamp(static_cast<int>(n), 1, kMaxGridSamples);
   };
   int nu = count(patch.nu, 0), nv = count(patch.nv, 1);
   PatchGrid g = grid_of(patch, nu, nv, chord > 0);

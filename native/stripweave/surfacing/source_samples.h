@@ -6,8 +6,8 @@
 //         spacing and the largest chordal error (model units).
 // Output  SourceSamples (model units):
 //           B-rep   BrepSource::dense_samples: a fine mesh with vertices
-//                   exactly on the faces (and their (u, v) and face), one
-//                   exact sample per fine triangle at its centroid's (u, v);
+//                   exactly on the faces (and their (u, v) and face), and
+//                   exact samples `spacing` apart;
 //           mesh    the source mesh itself (it is the source: exact), each
 //                   triangle subdivided n x n (n = longest edge / spacing)
 //                   with one sample at each sub-triangle's centroid;
