@@ -85,6 +85,45 @@ Subdivided subdivide(const BRepAdaptor_Surface& s, const std::array<Vec2, 3>& uv
   return out;
 }
 
+// Samples of one BRepMesh triangle (its (u, v) and exact corners x) about
+// `spacing` apart, their weights summing to `area`: an n x n subdivision (n
+// from its longest edge), or for a sliver (narrower than the spacing) n
+// pieces of a fan along its longest edge, so a long thin triangle gets n
+// samples, not n^2.
+void add_samples(const BRepAdaptor_Surface& surface, const std::array<Vec2, 3>& uv, const std::array<Vec3, 3>& x,
+                 double spacing, double area, BrepDenseSamples& s) {
+  int longest = 0;
+  double length = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double l = (x[(k + 1) % 3] - x[k]).norm();
+    if (l > length) length = l, longest = k;
+  }
+  const int n = std::clamp(static_cast<int>(std::ceil(length / spacing)), 1, kMaxSubdivision);
+  const double flat = 0.5 * (x[1] - x[0]).cross(x[2] - x[0]).norm();
+  if (n > 1 && 2 * flat / length < spacing) {
+    // The fan from the vertex opposite the longest edge a -> b.
+    const Vec2 &a = uv[longest], &b = uv[(longest + 1) % 3], &c = uv[(longest + 2) % 3];
+    for (int i = 0; i < n; ++i) {
+      const Vec2 q = (a + (b - a) * ((i + 0.5) / n)) * (2.0 / 3) + c / 3;  // the piece's centroid
+      s.points.push_back(value_at(surface, q));
+      s.area.push_back(area / n);
+    }
+    return;
+  }
+  const Subdivided coarse = subdivide(surface, uv, n);
+  std::vector<double> w(coarse.tris.size());
+  double total = 0;
+  for (size_t k = 0; k < coarse.tris.size(); ++k) {
+    const Tri& q = coarse.tris[k];
+    w[k] = 0.5 * (coarse.xyz[q[1]] - coarse.xyz[q[0]]).cross(coarse.xyz[q[2]] - coarse.xyz[q[0]]).norm();
+    total += w[k];
+  }
+  for (size_t k = 0; k < coarse.tris.size(); ++k) {
+    s.points.push_back(coarse.centre[k]);
+    s.area.push_back(total > 0 ? area * w[k] / total : area / coarse.tris.size());
+  }
+}
+
 struct FaceSamples {
   BrepDenseSamples s;
   bool meshed = true;
@@ -112,10 +151,9 @@ FaceSamples sample_face(const TopoDS_Face& face, Index f, double spacing, double
       x[k] = value_at(surface, uv[k]);
     }
     const double longest = std::max({(x[1] - x[0]).norm(), (x[2] - x[1]).norm(), (x[0] - x[2]).norm()});
-    // The samples: `spacing` apart. The tessellation: as fine as `chord` asks.
-    int n = std::clamp(static_cast<int>(std::ceil(longest / spacing)), 1, kMaxSubdivision);
-    const Subdivided coarse = subdivide(surface, uv, n);
-    Subdivided d = coarse;
+    // The tessellation: as fine as `chord` asks.
+    int n = 1;
+    Subdivided d = subdivide(surface, uv, n);
     while (d.max_chord > chord && n < kMaxSubdivision) {
       n = std::min(kMaxSubdivision, std::max(n + 1, static_cast<int>(std::ceil(1.1 * n * std::sqrt(d.max_chord / chord)))));
       d = subdivide(surface, uv, n);
@@ -123,23 +161,14 @@ FaceSamples sample_face(const TopoDS_Face& face, Index f, double spacing, double
     const Index base = s.mesh.num_vertices();
     s.mesh.positions.insert(s.mesh.positions.end(), d.xyz.begin(), d.xyz.end());
     s.uv.insert(s.uv.end(), d.uv.begin(), d.uv.end());
-    auto area = [](const Subdivided& z, const Tri& q) {
-      return 0.5 * (z.xyz[q[1]] - z.xyz[q[0]]).cross(z.xyz[q[2]] - z.xyz[q[0]]).norm();
-    };
-    double fine_area = 0, coarse_area = 0;
+    double fine_area = 0;
     for (const Tri& q : d.tris) {
       s.mesh.triangles.push_back({base + q[0], base + q[1], base + q[2]});
       s.face.push_back(f);
-      fine_area += area(d, q);
+      fine_area += 0.5 * (d.xyz[q[1]] - d.xyz[q[0]]).cross(d.xyz[q[2]] - d.xyz[q[0]]).norm();
     }
-    for (const Tri& q : coarse.tris) coarse_area += area(coarse, q);
-    // Each sample's weight: its coarse triangle's area, scaled to the fine
-    // tessellation's (the better estimate of the curved area).
-    const double scale = coarse_area > 0 ? fine_area / coarse_area : 0.0;
-    for (size_t k = 0; k < coarse.tris.size(); ++k) {
-      s.points.push_back(coarse.centre[k]);
-      s.area.push_back(scale * area(coarse, coarse.tris[k]));
-    }
+    // The samples: `spacing` apart, weighted by the fine mesh's area.
+    add_samples(surface, uv, x, spacing, fine_area, s);
     s.max_chord = std::max(s.max_chord, d.max_chord);
   }
   return out;
