@@ -2,7 +2,7 @@
 // as exact samples for measuring a fit (surfacing/fit_deviation.h).
 //
 // dense_samples(spacing, chord)
-//   BRepMesh (edges at a linear deflection of 4 * chord, the interior at 16
+//   BRepMesh (edges at a linear deflection of 2 * chord, the interior at 16
 //   * chord) gives each face triangles with (u, v) nodes. Each triangle is subdivided n x n in its (u, v) (n
 //   from its longest 3D edge over `spacing`), every sub-triangle vertex
 //   evaluated on the face's surface; where a sub-triangle's centroid (the
@@ -13,7 +13,8 @@
 //   sub-triangles' areas. Faces are sampled side by side (one adaptor per
 //   face, made in the thread that samples it) and concatenated in face
 //   order, so the result does not depend on the thread count.
-//   Faces BRepMesh leaves empty have no samples; their area is reported
+//   A face BRepMesh leaves empty is meshed again on its own at other
+//   deflections; if none works it has no samples, and its area is reported
 //   (unmeshed_area) so that a coverage figure can count it as unmeasured.
 // foot_on_face(f, p, uv)
 //   Gauss-Newton on the face's surface from uv (a point within the trim),
@@ -183,10 +184,10 @@ BrepDenseSamples BrepSource::dense_samples(double spacing, double chord) const {
     // Edges fine (their polygons bound the samples' reach), the interior
     // coarse: the subdivision below refines it at a fraction of the cost.
     IMeshTools_Parameters parameters;
-    parameters.Deflection = 4 * chord;
-    parameters.Angle = 1.0;
+    parameters.Deflection = 2 * chord;
+    parameters.Angle = 0.35;
     parameters.DeflectionInterior = 16 * chord;
-    parameters.AngleInterior = 1.0;
+    parameters.AngleInterior = 0.5;
     parameters.Relative = false;
     parameters.InParallel = false;
     BRepMesh_IncrementalMesh mesher(s.shape, parameters);
@@ -203,6 +204,17 @@ BrepDenseSamples BrepSource::dense_samples(double spacing, double chord) const {
       per_face[f].meshed = false;
     }
   });
+  // BRepMesh leaves a face empty now and then for one set of parameters
+  // and not for another: such faces are meshed again on their own.
+  for (Index f = 0; f < nf; ++f)
+    for (double deflection : {8 * chord, 2 * chord, 32 * chord}) {
+      if (per_face[f].meshed) break;
+      try {
+        BRepMesh_IncrementalMesh mesher(s.face(f), deflection, false, 0.5, false);
+        per_face[f] = sample_face(s.face(f), f, spacing, chord);
+      } catch (const Standard_Failure&) {
+      }
+    }
   BRepTools::Clean(s.shape);  // leave the shape as tessellate() expects to find it
   BrepDenseSamples out;
   for (Index f = 0; f < nf; ++f) {

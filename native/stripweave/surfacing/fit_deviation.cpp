@@ -125,7 +125,7 @@ FitDeviation fit_deviation(const Surface& surface, const std::vector<BSplinePatc
   const Index nP = static_cast<Index>(patches.size());
   out.per_patch.assign(nP, {});
   const double h = options.spacing > 0 ? options.spacing : default_spacing(surface, options.max_source_samples);
-  const double chord = options.chord > 0 ? options.chord : tolerance / 20;
+  const double chord = options.chord > 0 ? options.chord : tolerance / 10;
   out.spacing = h;
   Stopwatch watch(out.timings);
 
@@ -138,7 +138,7 @@ FitDeviation fit_deviation(const Surface& surface, const std::vector<BSplinePatc
   const BrepSource* brep = surface.brep && !S.face.empty() ? surface.brep.get() : nullptr;
   // Chordal bounds of both tessellations (see the header).
   const double eps_patches = 1.5 * P.max_chord;
-  const double eps_source = brep ? std::max(1.5 * S.max_chord, 4 * chord) : 0.0;
+  const double eps_source = brep ? std::max(1.5 * S.max_chord, 2 * chord) : 0.0;
   out.measurement_error = 2 * std::max(eps_patches, eps_source);
   out.unmeshed_faces = S.unmeshed_faces;
   if (nP == 0) return out;

@@ -26,7 +26,7 @@
 //         eps is the largest chordal error of their triangles (measured at
 //         every triangle's centroid: to second order the largest error over
 //         a triangle is at most 1.5 times its centroid's; BRepMesh's
-//         boundary polygons lie within its edge deflection, 4 * chord). The
+//         boundary polygons lie within its edge deflection, 2 * chord). The
 //         distance d_mesh to a tessellation then brackets the true one,
 //         d_mesh - eps <= d <= d_mesh + eps, and the Newton answer is the
 //         distance to a point of the geometry no farther than its start,
@@ -37,7 +37,7 @@
 //         by at most 2 eps, and only where the tessellation's nearest point
 //         lies on another face or patch than the true foot point.
 //         `measurement_error` is that 2 eps; with the default chord
-//         (tolerance / 20) it is at most 0.4 of the tolerance (0.15 away
+//         (tolerance / 10) it is at most 0.4 of the tolerance (0.3 away
 //         from B-rep face borders), and far less in practice (Newton
 //         converges on the right face or patch).
 //         Sampling: the patch grids take 8 samples per span (patch_grid.h:
@@ -58,7 +58,7 @@ namespace stripweave {
 
 struct DeviationOptions {
   double spacing = 0;        // model units; 0: the solver mesh's mean edge length
-  double chord = 0;          // model units; 0: tolerance / 20
+  double chord = 0;          // model units; 0: tolerance / 10
   int samples_per_span = 8;
   Index max_source_samples = 600000;  // the spacing grows to stay under this
 };

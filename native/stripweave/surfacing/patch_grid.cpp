@@ -57,7 +57,7 @@ PatchGrid patch_grid(const BSplinePatch& patch, double spacing, double chord, in
     double n = per_span * spans;
     if (spacing > 0) {
       const double length = control_length(patch, d);
-      n = std::max(std::ceil(length / spacing), std::min(n, std::ceil(4 * length / spacing)));
+      n = std::max(n, std::ceil(length / spacing));
     }
     return std::clamp(static_cast<int>(n), 1, kMaxGridSamples);
   };
