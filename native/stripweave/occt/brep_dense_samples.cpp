@@ -87,41 +87,46 @@ Subdivided subdivide(const BRepAdaptor_Surface& s, const std::array<Vec2, 3>& uv
 }
 
 // Samples of one BRepMesh triangle (its (u, v) and exact corners x) about
-// `spacing` apart, their weights summing to `area`: an n x n subdivision (n
-// from its longest edge), or for a sliver (narrower than the spacing) n
-// pieces of a fan along its longest edge, so a long thin triangle gets n
-// samples, not n^2.
+// `spacing` apart, their weights summing to `area`: the triangle bisected at
+// the middle of its longest edge (in (u, v), the new corner evaluated on the
+// surface) until no edge is longer than the spacing, one sample at each
+// piece's centroid. Unlike an n x n subdivision this stays proportional to
+// the area on long thin triangles (a planar face's few long slivers).
 void add_samples(const BRepAdaptor_Surface& surface, const std::array<Vec2, 3>& uv, const std::array<Vec3, 3>& x,
                  double spacing, double area, BrepDenseSamples& s) {
-  int longest = 0;
-  double length = 0;
-  for (int k = 0; k < 3; ++k) {
-    const double l = (x[(k + 1) % 3] - x[k]).norm();
-    if (l > length) length = l, longest = k;
-  }
-  const int n = std::clamp(static_cast<int>(std::ceil(length / spacing)), 1, kMaxSubdivision);
-  const double flat = 0.5 * (x[1] - x[0]).cross(x[2] - x[0]).norm();
-  if (n > 1 && 2 * flat / length < spacing) {
-    // The fan from the vertex opposite the longest edge a -> b.
-    const Vec2 &a = uv[longest], &b = uv[(longest + 1) % 3], &c = uv[(longest + 2) % 3];
-    for (int i = 0; i < n; ++i) {
-      const Vec2 q = (a + (b - a) * ((i + 0.5) / n)) * (2.0 / 3) + c / 3;  // the piece's centroid
-      s.points.push_back(value_at(surface, q));
-      s.area.push_back(area / n);
-    }
-    return;
-  }
-  const Subdivided coarse = subdivide(surface, uv, n);
-  std::vector<double> w(coarse.tris.size());
+  struct Piece {
+    std::array<Vec2, 3> uv;
+    std::array<Vec3, 3> x;
+    int depth;
+  };
+  std::vector<Piece> stack{{uv, x, 0}};
+  std::vector<Vec3> points;
+  std::vector<double> weights;
   double total = 0;
-  for (size_t k = 0; k < coarse.tris.size(); ++k) {
-    const Tri& q = coarse.tris[k];
-    w[k] = 0.5 * (coarse.xyz[q[1]] - coarse.xyz[q[0]]).cross(coarse.xyz[q[2]] - coarse.xyz[q[0]]).norm();
-    total += w[k];
+  while (!stack.empty()) {
+    const Piece p = stack.back();
+    stack.pop_back();
+    int longest = 0;
+    double length = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double l = (p.x[(k + 1) % 3] - p.x[k]).norm();
+      if (l > length) length = l, longest = k;
+    }
+    if (length > spacing && p.depth < 24) {
+      const int a = longest, b = (longest + 1) % 3, c = (longest + 2) % 3;
+      const Vec2 m = 0.5 * (p.uv[a] + p.uv[b]);
+      const Vec3 xm = value_at(surface, m);
+      stack.push_back({{p.uv[a], m, p.uv[c]}, {p.x[a], xm, p.x[c]}, p.depth + 1});
+      stack.push_back({{m, p.uv[b], p.uv[c]}, {xm, p.x[b], p.x[c]}, p.depth + 1});
+      continue;
+    }
+    points.push_back(value_at(surface, (p.uv[0] + p.uv[1] + p.uv[2]) / 3));
+    weights.push_back(0.5 * (p.x[1] - p.x[0]).cross(p.x[2] - p.x[0]).norm());
+    total += weights.back();
   }
-  for (size_t k = 0; k < coarse.tris.size(); ++k) {
-    s.points.push_back(coarse.centre[k]);
-    s.area.push_back(total > 0 ? area * w[k] / total : area / coarse.tris.size());
+  for (size_t k = 0; k < points.size(); ++k) {
+    s.points.push_back(points[k]);
+    s.area.push_back(total > 0 ? area * weights[k] / total : area / points.size());
   }
 }
 
