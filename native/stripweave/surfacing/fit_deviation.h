@@ -40,8 +40,11 @@
 //         (tolerance / 10) it is at most 0.4 of the tolerance (0.3 away
 //         from B-rep face borders), and far less in practice (Newton
 //         converges on the right face or patch).
-//         Sampling: the patch grids take 8 samples per span (patch_grid.h:
-//         the sampled maximum is within 8 % of the maximum between samples);
+//         Sampling: the patch grids take 4 samples per span, and 8 around
+//         every sample within 0.7 of its patch's largest (patch_grid.h: at 8
+//         per span the sampled maximum is within 8 % of the maximum between
+//         samples; at 4, within 29 %, so every bump that could top it is
+//         refined); RMS figures come from the 4 per span;
 //         the source samples are spaced at most `spacing` (default: the
 //         solver mesh's mean edge, so one or two per solver triangle), which
 //         sizes the coverage's resolution.
