@@ -17,7 +17,7 @@ import stripweave as sw
 from models import box, capped_cylinder, square_u_tube
 from stripweave.design import Design
 from stripweave.strips import DesignSession
-from stripweave.surfacing import FIT_KEYS, fit_report, format_fit, refit_design
+from stripweave.surfacing import DESIGN_FIT_KEYS, FIT_KEYS, fit_report, format_fit, refit_design
 
 CUBE_BELTS = [[(5, 5, 10, 1, 0, 0)], [(5, 3, 0, 0, 1, 0)], [(3, 0, 5, 1, 0, 0)]]
 CYLINDER_BOX = [[(5, 0, 10, 0, 1, 0)], [(-5, 0, 10, 0, 0, 1)], [(0, 5, 10, 0, 0, 1)]]
@@ -46,6 +46,10 @@ def test_cube_three_belts(cube_fit):
     diagonal = 10 * math.sqrt(3)
     assert len(r["per_patch"]) == 6 and r["faces"] == 6
     assert r["max_deviation"] <= 1e-4 * diagonal
+    # Two-sided and covering: the tolerance is met on an honest measure.
+    assert r["max_deviation_source_to_patches"] <= 1e-4 * diagonal
+    assert r["max_deviation_patches_to_source"] <= 1e-4 * diagonal
+    assert r["coverage"] >= 0.999 and r["tolerance_met"]
     check_shell(r, diagonal)
     assert r["closed"] and r["volume"] == pytest.approx(1000, rel=1e-3)
     assert r["sharp_seams"] == 12 and r["smooth_seams"] == 0
@@ -55,10 +59,29 @@ def test_cube_three_belts(cube_fit):
 
 
 def test_fit_report_block(cube_fit):
+    """fit_report() holds every fit key of design.md (floats in model units, tolerance_met
+    a bool), both directions per patch, and no per-triangle array (that is for
+    deviation.png only); it is plain JSON."""
+    import json
     _, r, _ = cube_fit
     fit = fit_report(r)
-    for k in FIT_KEYS + ("per_patch", "tolerance", "valid_shell", "closed", "volume", "faces"):
+    design_keys = ("max_deviation", "rms_deviation", "max_seam_gap", "max_seam_angle_deg",
+                   "max_deviation_source_to_patches", "max_deviation_patches_to_source",
+                   "rms_deviation_source_to_patches", "rms_deviation_patches_to_source", "tolerance", "coverage",
+                   "uncovered_area", "tolerance_met", "max_regular_seam_angle_deg")
+    assert set(design_keys) == set(DESIGN_FIT_KEYS)
+    for k in design_keys + ("per_patch", "tolerance", "valid_shell", "closed", "volume", "faces"):
         assert k in fit
+    assert isinstance(fit["tolerance_met"], bool) and fit["tolerance_met"]
+    assert fit["max_deviation"] == max(fit["max_deviation_source_to_patches"], fit["max_deviation_patches_to_source"])
+    assert fit["max_regular_seam_angle_deg"] == r["max_seam_angle_deg_regular"]
+    assert fit["coverage"] >= 0.999
+    for p in fit["per_patch"]:
+        for k in ("max_deviation", "max_deviation_source_to_patch", "max_deviation_patch_to_source",
+                  "rms_deviation_source_to_patch", "rms_deviation_patch_to_source"):
+            assert isinstance(p[k], float)
+    assert "triangle_uncovered" in r and "triangle_uncovered" not in fit
+    json.dumps(fit)
     assert fit["tolerance"] == pytest.approx(1e-3 * 10 * math.sqrt(3))
     assert len(fit["per_patch"]) == 6 and fit["faces"] == 6 and fit["closed"] and fit["valid_shell"]
     assert all(isinstance(fit[k], float) for k in FIT_KEYS)
@@ -80,6 +103,8 @@ def test_capped_cylinder_box_design(tmp_path):
     assert all(abs(v["position"][2]) < 1e-9 or abs(v["position"][2] - 20) < 1e-9 for v in L["vertices"])
     assert r["sharp_seams"] == 8 and r["smooth_seams"] == 4
     assert r["max_deviation"] <= 1e-3 * diagonal and r["tolerance_met"]
+    assert max(r["max_deviation_source_to_patches"], r["max_deviation_patches_to_source"]) <= r["tolerance"]
+    assert r["coverage"] >= 0.999 and r["uncovered_area"] <= 1e-3 * r["source_area"]
     check_shell(r, diagonal)
     assert r["closed"] and r["volume"] == pytest.approx(500 * math.pi, rel=5e-3)
     assert r["max_seam_angle_deg"] < 1.0

@@ -12,12 +12,28 @@
 //   tolerance: model units (None: 1e-3 of the model's bbox diagonal).
 //   Keyword options (FitOptions): relative_tolerance, initial_spans,
 //   max_spans, smoothing, seam_weight, seam_mode ('tangent' | 'c1'), tangent_rounds, edge_density, edge_smoothing, parameter_corrections, edge_snap, seam_from,
-//   seam_to, crease_angle_deg, vertex_tangent_planes.
-//   Returns (lengths in model units):
-//     max_deviation, rms_deviation, per_patch [{max_deviation,
-//     rms_deviation, nu, nv, samples, worst_uv, side_deviation, crease_deg,
-//     crease_edges, crease_length, creased, flipped_fraction, folded}],
-//     max_edge_deviation, tolerance, tolerance_met, creased_patches,
+//   seam_to, crease_angle_deg, vertex_tangent_planes, deviation_spacing and
+//   deviation_chord (model units: how densely the reported deviation is
+//   measured, surfacing/fit_deviation.h; 0: the defaults).
+//   Returns (lengths in model units; the deviation is two-sided,
+//   surfacing/fit_deviation.h):
+//     max_deviation, rms_deviation (the larger of both directions),
+//     max_deviation_source_to_patches, max_deviation_patches_to_source,
+//     rms_deviation_source_to_patches, rms_deviation_patches_to_source,
+//     coverage, uncovered_area and source_area (model units^2),
+//     source_samples, patch_samples, unsampled_faces, measurement_error,
+//     spacing (of the source samples),
+//     triangle_uncovered (numpy float array: per Surface triangle, the
+//     fraction of its source area not within tolerance of a patch),
+//     fit_max_deviation and fit_rms_deviation (the refinement's own measure
+//     at its fit samples), per_patch [{max_deviation, rms_deviation,
+//     max_deviation_source_to_patch, max_deviation_patch_to_source,
+//     rms_deviation_source_to_patch, rms_deviation_patch_to_source,
+//     source_area, fit_max_deviation, fit_rms_deviation, nu, nv, samples,
+//     worst_uv, side_deviation, crease_deg, crease_edges, crease_length,
+//     creased, flipped_fraction, folded}],
+//     max_edge_deviation, tolerance, tolerance_met (both directions within
+//     tolerance and coverage >= 0.999), creased_patches,
 //     folded_patches, max_deviation_uncreased, tolerance_met_uncreased, rounds, uncoupled_patches, max_seam_gap, max_seam_angle_deg (smooth seams,
 //     middle of each seam), max_seam_angle_deg_full (whole seam),
 //     max_seam_angle_deg_regular (whole seams between valence-4 vertices),
@@ -26,7 +42,19 @@
 //     shell_tolerance, step_faces_read_back (None without step_path),
 //     timings_ms {step: ms}, time_s (the whole call, STEP included), and
 //     "brep" (BREP string of the shell) with return_brep=True.
+//     With return_patches=True also "patches": per network patch
+//     {"nu", "nv", "control": ((nu + 3) * (nv + 3), 3) array, row i along u,
+//     index i * (nv + 3) + j} (the uniform clamped bicubic of bspline.h).
 //   Runs without the GIL. Bad networks raise InputError.
+//
+// fit_deviation(surface, patches, tolerance, spacing=0, chord=0) -> dict
+//   patches as refit's "patches"; the two-sided deviation and coverage of
+//   those patches against the surface's source (surfacing/fit_deviation.h):
+//   the refit's deviation keys (max_deviation, ..._source_to_patches,
+//   ..._patches_to_source, coverage, uncovered_area, source_area,
+//   triangle_uncovered, measurement_error, spacing, per_patch [{max_deviation,
+//   max/rms_deviation_source_to_patch, max/rms_deviation_patch_to_source,
+//   source_area}]).
 #include "bind.h"
 
 #include "stripweave/core/error.h"
@@ -104,6 +132,64 @@ PatchNetwork network_from(const py::dict& net, double diagonal) {
   return n;
 }
 
+// A patch as {"nu", "nv", "control": ((nu + 3) * (nv + 3), 3), row i along u}.
+BSplinePatch patch_from(const py::handle& h) {
+  const py::dict d = py::cast<py::dict>(h);
+  BSplinePatch P;
+  P.nu = py::cast<int>(item(d, "nu", "a patch"));
+  P.nv = py::cast<int>(item(d, "nv", "a patch"));
+  if (P.nu < 1 || P.nv < 1) throw InputError("a patch needs at least one span each way");
+  P.control = points_from(item(d, "control", "a patch"), "patch control points");
+  if (Index(P.control.size()) != Index(P.rows()) * P.cols())
+    throw InputError("a patch with nu x nv spans has (nu + 3) * (nv + 3) control points");
+  return P;
+}
+
+py::dict patch_dict(const BSplinePatch& P) {
+  py::array_t<double> control({static_cast<py::ssize_t>(P.control.size()), py::ssize_t(3)});
+  auto c = control.mutable_unchecked<2>();
+  for (size_t i = 0; i < P.control.size(); ++i)
+    for (int j = 0; j < 3; ++j) c(i, j) = P.control[i][j];
+  py::dict d;
+  d["nu"] = P.nu, d["nv"] = P.nv, d["control"] = control;
+  return d;
+}
+
+py::array_t<double> double_array(const std::vector<double>& v) {
+  return py::array_t<double>(static_cast<py::ssize_t>(v.size()), v.data());
+}
+
+// The deviation figures shared by refit and fit_deviation (per_patch aside).
+void put_deviation(py::dict& d, const FitDeviation& r) {
+  d["max_deviation"] = std::max(r.max_source_to_patches, r.max_patches_to_source);
+  d["rms_deviation"] = std::max(r.rms_source_to_patches, r.rms_patches_to_source);
+  d["max_deviation_source_to_patches"] = r.max_source_to_patches;
+  d["max_deviation_patches_to_source"] = r.max_patches_to_source;
+  d["rms_deviation_source_to_patches"] = r.rms_source_to_patches;
+  d["rms_deviation_patches_to_source"] = r.rms_patches_to_source;
+  d["coverage"] = r.coverage;
+  d["uncovered_area"] = r.uncovered_area;
+  d["source_area"] = r.source_area;
+  d["source_samples"] = r.source_samples;
+  d["patch_samples"] = r.patch_samples;
+  d["unsampled_faces"] = r.unmeshed_faces;
+  d["measurement_error"] = r.measurement_error;
+  d["spacing"] = r.spacing;
+  d["triangle_uncovered"] = double_array(r.triangle_uncovered);
+}
+
+py::dict patch_deviation_dict(const PatchDeviation& f) {
+  py::dict p;
+  p["max_deviation"] = f.max_deviation();
+  p["rms_deviation"] = std::max(f.rms_source_to_patch, f.rms_patch_to_source);
+  p["max_deviation_source_to_patch"] = f.max_source_to_patch;
+  p["max_deviation_patch_to_source"] = f.max_patch_to_source;
+  p["rms_deviation_source_to_patch"] = f.rms_source_to_patch;
+  p["rms_deviation_patch_to_source"] = f.rms_patch_to_source;
+  p["source_area"] = f.source_area;
+  return p;
+}
+
 FitOptions options_from(const py::kwargs& kw) {
   FitOptions o;
   for (const auto& [k, v] : kw) {
@@ -127,6 +213,8 @@ FitOptions options_from(const py::kwargs& kw) {
     else if (key == "seam_to") o.seam_to = py::cast<double>(v);
     else if (key == "crease_angle_deg") o.crease_angle_deg = py::cast<double>(v);
     else if (key == "vertex_tangent_planes") o.vertex_tangent_planes = py::cast<bool>(v);
+    else if (key == "deviation_spacing") o.deviation.spacing = py::cast<double>(v);
+    else if (key == "deviation_chord") o.deviation.chord = py::cast<double>(v);
     else throw InputError("refit: unknown option '" + key + "'");
   }
   return o;
@@ -136,7 +224,8 @@ FitOptions options_from(const py::kwargs& kw) {
 
 void bind_surfacing(py::module_& m) {
   m.def("refit", [](const Surface& surface, const py::dict& network, std::optional<double> tolerance,
-                    std::optional<std::string> step_path, bool return_brep, const py::kwargs& kw) {
+                    std::optional<std::string> step_path, bool return_brep, bool return_patches,
+                    const py::kwargs& kw) {
         FitOptions options = options_from(kw);
         if (tolerance) {
           if (!(*tolerance > 0)) throw InputError("refit: the tolerance must be positive");
@@ -157,13 +246,15 @@ void bind_surfacing(py::module_& m) {
         }
         const FitReport& r = result.report;
         py::dict d;
-        d["max_deviation"] = r.max_deviation;
-        d["rms_deviation"] = r.rms_deviation;
+        put_deviation(d, r.deviation);
+        d["fit_max_deviation"] = r.fit_max_deviation;
+        d["fit_rms_deviation"] = r.fit_rms_deviation;
         py::list per_patch;
-        for (const PatchFitFigures& f : r.per_patch) {
-          py::dict p;
-          p["max_deviation"] = f.max_deviation;
-          p["rms_deviation"] = f.rms_deviation;
+        for (size_t i = 0; i < r.per_patch.size(); ++i) {
+          const PatchFitFigures& f = r.per_patch[i];
+          py::dict p = patch_deviation_dict(r.deviation.per_patch[i]);
+          p["fit_max_deviation"] = f.fit_max_deviation;
+          p["fit_rms_deviation"] = f.fit_rms_deviation;
           p["nu"] = f.nu;
           p["nv"] = f.nv;
           p["samples"] = f.samples;
@@ -208,10 +299,38 @@ void bind_surfacing(py::module_& m) {
         d["timings_ms"] = timings;
         d["time_s"] = total_s;
         if (return_brep) d["brep"] = brep;
+        if (return_patches) {
+          py::list patches;
+          for (const BSplinePatch& P : result.surfaces) patches.append(patch_dict(P));
+          d["patches"] = patches;
+        }
         return d;
       }, py::arg("surface"), py::arg("network"), py::arg("tolerance") = py::none(), py::arg("step_path") = py::none(),
-      py::arg("return_brep") = false,
+      py::arg("return_brep") = false, py::arg("return_patches") = false,
       "Fit B-spline patches to a quad patch network, sew them, optionally write STEP AP214 (see bind_surfacing.cpp)");
+
+  m.def("fit_deviation", [](const Surface& surface, const py::list& patches, double tolerance, double spacing,
+                            double chord) {
+        if (!(tolerance > 0)) throw InputError("fit_deviation: the tolerance must be positive");
+        std::vector<BSplinePatch> P;
+        for (const py::handle& h : patches) P.push_back(patch_from(h));
+        if (P.empty()) throw InputError("fit_deviation: no patches");
+        DeviationOptions options;
+        options.spacing = spacing, options.chord = chord;
+        FitDeviation r;
+        {
+          py::gil_scoped_release release;
+          r = fit_deviation(surface, P, tolerance, options);
+        }
+        py::dict d;
+        put_deviation(d, r);
+        py::list per_patch;
+        for (const PatchDeviation& f : r.per_patch) per_patch.append(patch_deviation_dict(f));
+        d["per_patch"] = per_patch;
+        return d;
+      }, py::arg("surface"), py::arg("patches"), py::arg("tolerance"), py::arg("spacing") = 0.0,
+      py::arg("chord") = 0.0,
+      "The two-sided deviation and coverage of B-spline patches against the surface's source (see bind_surfacing.cpp)");
 }
 
 }  // namespace stripweave_python

@@ -36,9 +36,20 @@ SurfaceLocator::~SurfaceLocator() = default;
 
 SurfacePoint3 SurfaceLocator::closest(const Vec3& p) const {
   const auto [q, primitive] = impl_->tree.closest_point_and_primitive(to_point(p));
+  return answer(p, Vec3(q.x(), q.y(), q.z()), static_cast<Index>(primitive - impl_->triangles.cbegin()));
+}
+
+SurfacePoint3 SurfaceLocator::closest(const Vec3& p, const SurfacePoint3& hint) const {
+  if (hint.triangle == kInvalid) return closest(p);
+  const auto [q, primitive] =
+      impl_->tree.closest_point_and_primitive(to_point(p), {to_point(hint.point), impl_->triangles.cbegin() + hint.triangle});
+  return answer(p, Vec3(q.x(), q.y(), q.z()), static_cast<Index>(primitive - impl_->triangles.cbegin()));
+}
+
+SurfacePoint3 SurfaceLocator::answer(const Vec3& p, const Vec3& q, Index triangle) const {
   SurfacePoint3 out;
-  out.point = Vec3(q.x(), q.y(), q.z());
-  out.triangle = static_cast<Index>(primitive - impl_->triangles.cbegin());
+  out.point = q;
+  out.triangle = triangle;
   out.distance = (out.point - p).norm();
   // Barycentric coordinates of q in its triangle (for picking a vertex and
   // for interpolating per-vertex data).

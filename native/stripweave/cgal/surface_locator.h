@@ -5,6 +5,10 @@
 // cursor.
 //   closest(p) -> {point on the mesh, triangle id, barycentric coordinates,
 //                 distance}
+//   closest(p, hint) -> the same, the search started from a previous answer
+//                 (much faster for queries in spatial order: the hint bounds
+//                 the search instead of a nearest-neighbour lookup; the
+//                 answer is the same nearest point, up to ties)
 #pragma once
 
 #include "stripweave/surface/triangle_mesh.h"
@@ -25,9 +29,11 @@ class SurfaceLocator {
   explicit SurfaceLocator(const TriangleMesh& mesh);
   ~SurfaceLocator();
   SurfacePoint3 closest(const Vec3& p) const;
+  SurfacePoint3 closest(const Vec3& p, const SurfacePoint3& hint) const;
 
  private:
   struct Impl;
+  SurfacePoint3 answer(const Vec3& p, const Vec3& q, Index triangle) const;
   std::unique_ptr<Impl> impl_;
 };
 

@@ -1,4 +1,5 @@
 #include "stripweave/occt/brep_source.h"
+#include "stripweave/occt/brep_source_impl.h"
 
 #include "stripweave/core/error.h"
 
@@ -81,45 +82,6 @@ void quiet_occt() {
 }
 
 }  // namespace
-
-struct BrepSource::Impl {
-  TopoDS_Shape shape;
-  TopTools_IndexedMapOfShape faces, edges, vertices;
-  TopTools_IndexedDataMapOfShapeListOfShape edge_faces;
-  mutable std::vector<std::unique_ptr<ShapeAnalysis_Surface>> analysers;  // per face, lazily
-  mutable std::vector<gp_Pnt2d> last_uv;        // per face, the previous project_to_face answer
-  mutable std::vector<std::uint8_t> has_last_uv;
-  mutable std::vector<std::unique_ptr<BRepTopAdaptor_FClass2d>> classifiers;  // per face, lazily
-
-  explicit Impl(const TopoDS_Shape& s) : shape(s) {
-    TopExp::MapShapes(shape, TopAbs_FACE, faces);
-    TopExp::MapShapes(shape, TopAbs_EDGE, edges);
-    TopExp::MapShapes(shape, TopAbs_VERTEX, vertices);
-    TopExp::MapShapesAndAncestors(shape, TopAbs_EDGE, TopAbs_FACE, edge_faces);
-    analysers.resize(faces.Extent());
-    last_uv.resize(faces.Extent());
-    has_last_uv.assign(faces.Extent(), 0);
-    classifiers.resize(faces.Extent());
-  }
-  const TopoDS_Face& face(Index i) const { return TopoDS::Face(faces(i + 1)); }
-  const TopoDS_Edge& edge(Index i) const { return TopoDS::Edge(edges(i + 1)); }
-
-  // Distinct faces around an edge (a seam lists its face twice).
-  std::vector<Index> faces_of_edge(Index e) const {
-    std::vector<Index> result;
-    const Index k = edge_faces.FindIndex(edge(e));
-    if (k == 0) return result;
-    for (TopTools_ListIteratorOfListOfShape it(edge_faces(k)); it.More(); it.Next()) {
-      const Index f = faces.FindIndex(it.Value()) - 1;
-      if (std::find(result.begin(), result.end(), f) == result.end()) result.push_back(f);
-    }
-    return result;
-  }
-  Index edge_use_count(Index e) const {
-    const Index k = edge_faces.FindIndex(edge(e));
-    return k == 0 ? 0 : edge_faces(k).Extent();
-  }
-};
 
 BrepSource::BrepSource(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 BrepSource::~BrepSource() = default;
@@ -460,21 +422,7 @@ Vec3 BrepSource::project_to_face(Index face, const Vec3& p, double* distance, do
                             : analyser->ValueOfUV(to_pnt(p), 1e-9);
     s.last_uv[face] = uv, s.has_last_uv[face] = 1;
     q = to_vec(analyser->Value(uv));
-    if (inside) {
-      auto& classifier = s.classifiers[face];
-      if (!classifier) classifier = std::make_unique<BRepTopAdaptor_FClass2d>(s.face(face), 1e-7);
-      *inside = classifier->Perform(uv) != TopAbs_OUT;
-      // A periodic surface answers in its own period, the trim may lie in
-      // the next one.
-      const Handle(Geom_Surface)& surface = analyser->Surface();
-      for (int k = 0; k < 4 && !*inside; ++k) {
-        const bool along_u = k < 2;
-        if (along_u ? !surface->IsUPeriodic() : !surface->IsVPeriodic()) continue;
-        const double period = (k % 2 ? -1 : 1) * (along_u ? surface->UPeriod() : surface->VPeriod());
-        const gp_Pnt2d shifted(uv.X() + (along_u ? period : 0), uv.Y() + (along_u ? 0 : period));
-        *inside = classifier->Perform(shifted) != TopAbs_OUT;
-      }
-    }
+    if (inside) *inside = s.inside_trim(face, analyser->Surface(), uv);
   } catch (const Standard_Failure&) {
   }
   if (distance) *distance = (q - p).norm();

@@ -33,6 +33,14 @@
 //       order and lie close to the surface; with `inside`, whether that
 //       point lies within the face's trim (BRepTopAdaptor_FClass2d, cached
 //       per face; on the border counts as inside)
+//   dense_samples(spacing, chord)  the faces as a fine triangle mesh whose
+//       vertices lie exactly on their face's surface, and one exact sample
+//       per triangle with its area, for measuring a fit (brep_dense_samples.cpp)
+//   foot_on_face(f, p, uv)  the point of face f nearest to p by a local
+//       Newton from uv (a point within the trim; kept within the face's
+//       (u, v) box), or where that lands past the trim, the nearest of the
+//       start and the face's edges: the exact refinement of a nearest point
+//       found on the fine mesh
 #pragma once
 
 #include "stripweave/surface/triangle_mesh.h"
@@ -62,6 +70,23 @@ struct BrepTessellation {
   Index collapsed_triangles = 0;         // dropped at poles / degenerate edges
 };
 
+// The source B-rep densely sampled (model units): every face's BRepMesh
+// triangles subdivided in their (u, v) until no sub-triangle is longer than
+// `spacing` (the samples, at those sub-triangles' centroids), and further
+// until none deviates from the surface by more than `chord` at its centroid
+// (the mesh); every point evaluated exactly on its face's surface at its
+// (u, v). Faces are not welded to each other (distances need no topology).
+struct BrepDenseSamples {
+  TriangleMesh mesh;                 // vertices exactly on the source
+  std::vector<Vec2> uv;              // per mesh vertex, its face's (u, v)
+  std::vector<Index> face;           // per mesh triangle, its B-rep face
+  std::vector<Vec3> points;          // the samples, exactly on the source
+  std::vector<double> area;          // per sample, its weight
+  double max_chord = 0;              // largest centroid deviation of a triangle from its surface point
+  Index unmeshed_faces = 0;          // faces BRepMesh gave no triangles (no samples)
+  double unmeshed_area = 0;          // their area (BRepGProp)
+};
+
 class BrepSource {
  public:
   static std::shared_ptr<BrepSource> from_file(const std::string& path);
@@ -83,6 +108,10 @@ class BrepSource {
   Vec3 project_to_edge(Index edge, const Vec3& p, double* distance = nullptr) const;
   Vec3 project_to_face(Index face, const Vec3& p, double* distance = nullptr, double near = 0,
                        bool* inside = nullptr) const;
+
+  BrepDenseSamples dense_samples(double spacing, double chord) const;
+  // On return uv is the foot point's (u, v); *distance its distance from p.
+  Vec3 foot_on_face(Index face, const Vec3& p, Vec2& uv, double* distance = nullptr) const;
 
   // The shape as a BREP string (for the refit stage and for FreeCAD).
   std::string to_brep_string() const;

@@ -3,6 +3,7 @@
 #include "stripweave/core/error.h"
 #include "stripweave/core/parallel.h"
 #include "stripweave/surfacing/edge_curves.h"
+#include "stripweave/surfacing/fit_deviation.h"
 #include "stripweave/surfacing/patch_creases.h"
 #include "stripweave/surfacing/patch_fit.h"
 #include "stripweave/surfacing/patch_parameterization.h"
@@ -84,10 +85,35 @@ void measure(const std::vector<BSplinePatch>& patches, Index p, const std::vecto
     if (d > worst) worst = d, fig.worst_uv = s.uv[k];
     sum2 += d * d;
   }
-  fig.max_deviation = worst;
-  fig.rms_deviation = s.points.empty() ? 0 : std::sqrt(sum2 / s.points.size());
+  fig.fit_max_deviation = worst;
+  fig.fit_rms_deviation = s.points.empty() ? 0 : std::sqrt(sum2 / s.points.size());
   fig.samples = static_cast<Index>(s.points.size());
   fig.nu = patch.nu, fig.nv = patch.nv;
+}
+
+// The reported figures: the two-sided deviation and the coverage
+// (fit_deviation.h), overall and per patch; the tolerance is met when both
+// directions are within it and the patches cover the source.
+void report_deviation(const Surface& surface, const std::vector<BSplinePatch>& surfaces, const FitOptions& options,
+                      FitReport& report) {
+  const double tol = report.tolerance;
+  FitDeviation& dev = report.deviation;
+  dev = fit_deviation(surface, surfaces, tol, options.deviation);
+  double uncreased_edges = 0;
+  for (size_t p = 0; p < surfaces.size(); ++p) {
+    PatchFitFigures& f = report.per_patch[p];
+    const PatchDeviation& d = dev.per_patch[p];
+    f.max_deviation = d.max_deviation();
+    f.rms_deviation = std::max(d.rms_source_to_patch, d.rms_patch_to_source);
+    if (f.creased()) continue;
+    report.max_deviation_uncreased = std::max(report.max_deviation_uncreased, f.max_deviation);
+    uncreased_edges = std::max(uncreased_edges, f.side_deviation);
+  }
+  report.max_deviation = std::max(dev.max_source_to_patches, dev.max_patches_to_source);
+  report.rms_deviation = std::max(dev.rms_source_to_patches, dev.rms_patches_to_source);
+  for (const auto& [name, ms] : dev.timings) report.timings.emplace_back("deviation_" + name, ms);
+  report.tolerance_met = report.max_deviation <= tol && dev.coverage >= kCoverageMet;
+  report.tolerance_met_uncreased = report.max_deviation_uncreased <= tol && uncreased_edges <= tol;
 }
 
 double angle_deg(const Vec3& a, const Vec3& b) {
@@ -485,8 +511,8 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
     for (Index e = 0; e < nE; ++e)
       if (edge_dev[e] > tol && !uses[e].empty()) ask(e, edge_dev[e]);
     for (Index p = 0; p < nP; ++p)
-      if (report.per_patch[p].max_deviation > tol)
-        for (int s = 0; s < 2; ++s) ask(network.patches[p].edges[s], report.per_patch[p].max_deviation);
+      if (report.per_patch[p].fit_max_deviation > tol)
+        for (int s = 0; s < 2; ++s) ask(network.patches[p].edges[s], report.per_patch[p].fit_max_deviation);
     bool changed = false;
     for (Index r = 0; r < nE; ++r)
       if (want[r] > spans[r]) spans[r] = want[r], changed = true;
@@ -591,7 +617,8 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
     }
     // Refinement is exhausted: tolerance before tangent continuity.
     for (Index p = 0; p < nP; ++p)
-      if (report.per_patch[p].max_deviation > tol && uncoupled_fig[p].max_deviation < report.per_patch[p].max_deviation) {
+      if (report.per_patch[p].fit_max_deviation > tol &&
+          uncoupled_fig[p].fit_max_deviation < report.per_patch[p].fit_max_deviation) {
         result.surfaces[p] = uncoupled[p];
         report.per_patch[p] = uncoupled_fig[p];
         ++report.uncoupled_patches;
@@ -634,24 +661,22 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
     report.folded_patches += f.folded();
   }
 
+  // The refinement's own measure (at the fit samples), for reference.
   double sum2 = 0;
   Index count = 0;
-  double uncreased_edges = 0;
   for (const PatchFitFigures& f : report.per_patch) {
-    report.max_deviation = std::max(report.max_deviation, f.max_deviation);
-    sum2 += f.rms_deviation * f.rms_deviation * f.samples;
+    report.fit_max_deviation = std::max(report.fit_max_deviation, f.fit_max_deviation);
+    sum2 += f.fit_rms_deviation * f.fit_rms_deviation * f.samples;
     count += f.samples;
-    if (f.creased()) continue;
-    report.max_deviation_uncreased = std::max(report.max_deviation_uncreased, f.max_deviation);
-    uncreased_edges = std::max(uncreased_edges, f.side_deviation);
   }
-  report.rms_deviation = count ? std::sqrt(sum2 / count) : 0;
+  report.fit_rms_deviation = count ? std::sqrt(sum2 / count) : 0;
   // Edges no patch uses (their patches were left out of the network) say
   // nothing about the fitted shell.
   for (Index e = 0; e < nE; ++e)
     if (!uses[e].empty()) report.max_edge_deviation = std::max(report.max_edge_deviation, edge_dev[e]);
-  report.tolerance_met = report.max_deviation <= tol && report.max_edge_deviation <= tol;
-  report.tolerance_met_uncreased = report.max_deviation_uncreased <= tol && uncreased_edges <= tol;
+  watch.lap("report");
+  report_deviation(surface, result.surfaces, options, report);
+  watch.lap("deviation");
 
   // Regular vertices: exactly 4 smooth seams meet there.
   std::vector<Index> valence(nV, 0);

@@ -45,7 +45,13 @@
 //      (as on a finely split sphere, 0.7 deg against 1.7), they are kept
 //      (uncoupled_patches then counts every patch). Watertightness never depends on this: the boundary rows
 //      are the edge curves' control points.
-//   5. Report: deviation at the samples (orthogonal distance source ->
+//   5. Report: the two-sided deviation and the coverage (fit_deviation.h:
+//      dense samples of the source against every fitted patch, dense samples
+//      of every patch against the source), overall and per patch; these are
+//      the reported max_deviation, rms_deviation and tolerance_met (both
+//      directions within tolerance, coverage at least 0.999). The
+//      refinement's own measure (fit_max_deviation, below) is kept for
+//      reference: deviation at the samples (orthogonal distance source ->
 //      fitted network: the sample's own patch, or, where its foot point
 //      falls on the patch border, the nearest of the patches sharing a
 //      vertex with it; a layout edge zig-zags over the mesh while its
@@ -68,6 +74,7 @@
 #include "stripweave/core/stopwatch.h"
 #include "stripweave/surface/surface.h"
 #include "stripweave/surfacing/bspline.h"
+#include "stripweave/surfacing/fit_deviation.h"
 #include "stripweave/surfacing/patch_network.h"
 
 #include <memory>
@@ -100,12 +107,21 @@ struct FitOptions {
   bool vertex_tangent_planes = false;
   double crease_angle_deg = 30;      // a dihedral above this inside a patch is a crease (patch_creases.h)
   bool build_shell = true;
+  DeviationOptions deviation;        // how the reported deviation is measured (fit_deviation.h)
 };
 
+// The coverage tolerance_met asks for.
+constexpr double kCoverageMet = 0.999;
+
 struct PatchFitFigures {
+  // Reported, two-sided (fit_deviation.h): max and RMS the larger of both
+  // directions; the source samples nearest to this patch count for it.
+  // (each direction in FitReport::deviation.per_patch).
   double max_deviation = 0, rms_deviation = 0;
+  // The refinement's own measure: its fit samples against the network.
+  double fit_max_deviation = 0, fit_rms_deviation = 0;
   int nu = 0, nv = 0;  // spans
-  Index samples = 0;
+  Index samples = 0;   // fit samples
   Vec2 worst_uv = Vec2::Zero();  // harmonic (u, v) of the sample at max_deviation
   double side_deviation = 0;     // largest deviation of its 4 edge curves from their samples
   // Why a patch may miss the tolerance whatever the spans (patch_creases.h):
@@ -121,10 +137,16 @@ struct PatchFitFigures {
 
 struct FitReport {
   double tolerance = 0;               // model units, as used
+  // Reported, two-sided (fit_deviation.h): max_deviation and rms_deviation
+  // are the larger of both directions.
   double max_deviation = 0, rms_deviation = 0;
+  // Each direction, per patch, the coverage, the uncovered area, per solver
+  // triangle its uncovered fraction, how it was measured.
+  FitDeviation deviation;
+  double fit_max_deviation = 0, fit_rms_deviation = 0;  // the refinement's own measure
   double max_edge_deviation = 0;      // edge curves to their projected samples
   std::vector<PatchFitFigures> per_patch;
-  bool tolerance_met = false;
+  bool tolerance_met = false;         // both directions within tolerance, coverage >= kCoverageMet
   // Patches the layout lays over a crease, patches whose fit folds, and
   // whether the tolerance holds on the others (patches and their edges).
   Index creased_patches = 0, folded_patches = 0;

@@ -1,0 +1,268 @@
+#include "stripweave/surfacing/fit_deviation.h"
+
+#include "stripweave/cgal/surface_locator.h"
+#include "stripweave/core/parallel.h"
+#include "stripweave/occt/brep_source.h"
+#include "stripweave/surfacing/patch_fit.h"
+#include "stripweave/surfacing/patch_grid.h"
+#include "stripweave/surfacing/source_samples.h"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+namespace stripweave {
+
+namespace {
+
+constexpr Index kBlock = 512;  // samples per parallel work item
+
+Index blocks_of(size_t n) { return static_cast<Index>((n + kBlock - 1) / kBlock); }
+
+// The solver mesh's mean edge length, in model units, kept so that the
+// source gets at most max_samples samples (about 2.3 per spacing^2 of area).
+double default_spacing(const Surface& surface, Index max_samples) {
+  const TriangleMesh& m = surface.mesh;
+  const double s = surface.similarity.scale;
+  double length = 0, area = 0;
+  for (const EdgeKey& e : surface.topology.edges) length += (m.positions[e[1]] - m.positions[e[0]]).norm();
+  for (const Tri& t : m.triangles)
+    area += 0.5 * (m.positions[t[1]] - m.positions[t[0]]).cross(m.positions[t[2]] - m.positions[t[0]]).norm();
+  const double h = surface.topology.edges.empty() ? 0.01 : length / surface.topology.edges.size();
+  return s * std::max(h, std::sqrt(2.3 * area / std::max<Index>(max_samples, 1)));
+}
+
+// All patch grids as one mesh: per vertex its (u, v), per triangle its patch.
+struct PatchMesh {
+  TriangleMesh mesh;
+  std::vector<Vec2> uv;
+  std::vector<Index> patch;
+  double max_chord = 0;
+};
+
+// The samples: per patch a grid of `per_span` samples per span, spaced at most
+// `spacing`. The tessellation for nearest-point queries: a grid only as fine
+// as the chordal error asks (2 per span at least).
+PatchMesh patch_mesh(const std::vector<BSplinePatch>& patches, double spacing, double chord, int per_span,
+                     std::vector<PatchGrid>& grids) {
+  const Index nP = static_cast<Index>(patches.size());
+  grids.assign(nP, {});
+  std::vector<PatchGrid> coarse(nP);
+  parallel_for(nP, [&](Index p) {
+    grids[p] = patch_grid(patches[p], spacing, 0.0, per_span);
+    coarse[p] = patch_grid(patches[p], 0.0, chord, 2);
+  });
+  PatchMesh out;
+  for (Index p = 0; p < nP; ++p) {
+    const PatchGrid& g = coarse[p];
+    const Index base = out.mesh.num_vertices();
+    out.mesh.positions.insert(out.mesh.positions.end(), g.points.begin(), g.points.end());
+    out.uv.insert(out.uv.end(), g.uv.begin(), g.uv.end());
+    for (const Tri& t : g.triangles) out.mesh.triangles.push_back({base + t[0], base + t[1], base + t[2]});
+    out.patch.insert(out.patch.end(), g.triangles.size(), p);
+    out.max_chord = std::max(out.max_chord, g.max_chord);
+  }
+  return out;
+}
+
+template <typename T>
+T interpolate(const std::vector<T>& at_vertex, const Tri& t, const Vec3& b) {
+  return b.x() * at_vertex[t[0]] + b.y() * at_vertex[t[1]] + b.z() * at_vertex[t[2]];
+}
+
+// Per solver triangle, the uncovered share of the source samples on it; a
+// triangle without samples takes the mean of its neighbours' (a few rounds).
+std::vector<double> triangle_uncovered(const Surface& surface, const SourceSamples& S,
+                                       const std::vector<double>& distance, double tolerance) {
+  const Index nT = surface.mesh.num_triangles();
+  std::vector<double> total(nT, 0.0), uncovered(nT, 0.0), result(nT, 0.0);
+  if (nT == 0) return result;
+  const SurfaceLocator locator(surface.mesh);
+  std::vector<Index> where(S.points.size());
+  parallel_for(blocks_of(S.points.size()), [&](Index b) {
+    const size_t end = std::min(S.points.size(), size_t(b + 1) * kBlock);
+    SurfacePoint3 hint;  // each block from no hint: the answers do not depend on the threads
+    for (size_t k = size_t(b) * kBlock; k < end; ++k) {
+      hint = locator.closest(surface.similarity.to_normalized(S.points[k]), hint);
+      where[k] = hint.triangle;
+    }
+  });
+  for (size_t k = 0; k < where.size(); ++k) {
+    total[where[k]] += S.area[k];
+    if (distance[k] > tolerance) uncovered[where[k]] += S.area[k];
+  }
+  std::vector<bool> known(nT);
+  for (Index t = 0; t < nT; ++t) {
+    known[t] = total[t] > 0;
+    if (known[t]) result[t] = uncovered[t] / total[t];
+  }
+  const MeshTopology& topo = surface.topology;
+  if (Index(topo.triangle_edges.size()) != nT) return result;
+  for (int round = 0; round < 8; ++round) {
+    std::vector<bool> next = known;
+    bool missing = false;
+    for (Index t = 0; t < nT; ++t) {
+      if (known[t]) continue;
+      double sum = 0;
+      int n = 0;
+      for (Index e : topo.triangle_edges[t])
+        for (Index u : topo.edge_triangles[e])
+          if (u != kInvalid && u != t && known[u]) sum += result[u], ++n;
+      if (n) result[t] = sum / n, next[t] = true;
+      else missing = true;
+    }
+    known = std::move(next);
+    if (!missing) break;
+  }
+  return result;
+}
+
+}  // namespace
+
+FitDeviation fit_deviation(const Surface& surface, const std::vector<BSplinePatch>& patches, double tolerance,
+                           const DeviationOptions& options) {
+  FitDeviation out;
+  const Index nP = static_cast<Index>(patches.size());
+  out.per_patch.assign(nP, {});
+  const double h = options.spacing > 0 ? options.spacing : default_spacing(surface, options.max_source_samples);
+  const double chord = options.chord > 0 ? options.chord : tolerance / 10;
+  out.spacing = h;
+  Stopwatch watch(out.timings);
+
+  const SourceSamples S = sample_source(surface, h, chord);
+  watch.lap("source_samples");
+  std::vector<PatchGrid> grids;
+  const PatchMesh P = patch_mesh(patches, h, chord, std::max(1, options.samples_per_span / 2), grids);
+  watch.lap("patch_samples");
+  out.source_chord = S.max_chord, out.patch_chord = P.max_chord;
+  const BrepSource* brep = surface.brep && !S.face.empty() ? surface.brep.get() : nullptr;
+  // Chordal bounds of both tessellations (see the header).
+  const double eps_patches = 1.5 * P.max_chord;
+  const double eps_source = brep ? std::max(1.5 * S.max_chord, 2 * chord) : 0.0;
+  out.measurement_error = 2 * std::max(eps_patches, eps_source);
+  out.unmeshed_faces = S.unmeshed_faces;
+  if (nP == 0) return out;
+
+  // Source -> patches.
+  const size_t nS = S.points.size();
+  std::vector<double> ds(nS, 0.0);
+  std::vector<Index> owner(nS, 0);
+  {
+    const SurfaceLocator locator(P.mesh);
+    parallel_for(blocks_of(nS), [&](Index b) {
+      const size_t end = std::min(nS, size_t(b + 1) * kBlock);
+      SurfacePoint3 c;
+      for (size_t k = size_t(b) * kBlock; k < end; ++k) {
+        c = locator.closest(S.points[k], c);
+        const Tri& t = P.mesh.triangles[c.triangle];
+        const Index p = P.patch[c.triangle];
+        ds[k] = distance_to_patch(patches[p], S.points[k], interpolate(P.uv, t, c.barycentric));
+        owner[k] = p;
+      }
+    });
+  }
+
+  watch.lap("source_to_patches");
+  // Patches -> source, in two passes: every patch at half the samples per
+  // span, then at the full density around every sample within 0.7 of the
+  // patch's largest (at half density a bump of the deviation peaking between
+  // samples shows at least cos(pi / 4) = 0.71 of its peak at one of them, so
+  // no bump that could top the largest is left out): each patch's maximum as
+  // if sampled at the full density, at a fraction of the cost.
+  const SurfaceLocator source_locator(S.mesh);
+  std::vector<std::shared_ptr<BrepSource>> copies(parallel_workers(Index(1) << 20));
+  if (brep)
+    for (auto& c : copies) c = brep->thread_copy();
+  auto to_source = [&](const std::vector<Vec3>& points) {
+    std::vector<double> d(points.size(), 0.0);
+    const Index nb = blocks_of(points.size());
+    parallel_for_workers(nb, [&](Index b, unsigned worker) {
+      const size_t end = std::min(points.size(), size_t(b + 1) * kBlock);
+      SurfacePoint3 c;
+      for (size_t k = size_t(b) * kBlock; k < end; ++k) {
+        const Vec3& x = points[k];
+        c = source_locator.closest(x, c);
+        if (!brep) {
+          d[k] = c.distance;
+          continue;
+        }
+        Vec2 uv = interpolate(S.uv, S.mesh.triangles[c.triangle], c.barycentric);
+        double foot;
+        copies[worker]->foot_on_face(S.face[c.triangle], x, uv, &foot);
+        d[k] = std::max(foot, c.distance - eps_source);
+      }
+    }, static_cast<unsigned>(copies.size()));
+    return d;
+  };
+  std::vector<size_t> first(nP + 1, 0);
+  for (Index p = 0; p < nP; ++p) first[p + 1] = first[p] + grids[p].points.size();
+  const size_t nG = first[nP];
+  std::vector<Vec3> nodes;
+  nodes.reserve(nG);
+  for (const PatchGrid& g : grids) nodes.insert(nodes.end(), g.points.begin(), g.points.end());
+  const std::vector<double> dp = to_source(nodes);
+  std::vector<Vec3> extra;
+  std::vector<Index> extra_patch;
+  for (Index p = 0; p < nP; ++p) {
+    const PatchGrid& g = grids[p];
+    const double largest = *std::max_element(dp.begin() + first[p], dp.begin() + first[p + 1]);
+    for (size_t k = 0; k < g.points.size(); ++k) {
+      if (dp[first[p] + k] < 0.7 * largest || largest <= 0) continue;
+      for (int a = -1; a <= 1; ++a)
+        for (int b = -1; b <= 1; ++b) {
+          if (a == 0 && b == 0) continue;
+          const Vec2 uv = (g.uv[k] + Vec2(0.5 * a / g.nu, 0.5 * b / g.nv)).cwiseMax(0.0).cwiseMin(1.0);
+          extra.push_back(patches[p].value(uv.x(), uv.y()));
+          extra_patch.push_back(p);
+        }
+    }
+  }
+  const std::vector<double> de = to_source(extra);
+  watch.lap("patches_to_source");
+  // Figures, summed in sample order.
+  double s2_source = 0, w_source = 0, s2_patches = 0, w_patches = 0;
+  std::vector<double> s2(nP, 0.0), w(nP, 0.0);
+  for (size_t k = 0; k < nS; ++k) {
+    const double a = S.area[k], d = ds[k];
+    PatchDeviation& f = out.per_patch[owner[k]];
+    f.max_source_to_patch = std::max(f.max_source_to_patch, d);
+    f.source_area += a, ++f.source_samples;
+    s2[owner[k]] += a * d * d;
+    out.max_source_to_patches = std::max(out.max_source_to_patches, d);
+    s2_source += a * d * d, w_source += a;
+    if (d > tolerance) out.uncovered_area += a;
+  }
+  for (size_t k = 0; k < extra.size(); ++k) {
+    PatchDeviation& f = out.per_patch[extra_patch[k]];
+    f.max_patch_to_source = std::max(f.max_patch_to_source, de[k]);
+  }
+  for (Index p = 0; p < nP; ++p) {
+    PatchDeviation& f = out.per_patch[p];
+    f.rms_source_to_patch = f.source_area > 0 ? std::sqrt(s2[p] / f.source_area) : 0.0;
+    double sum2 = 0, weight = 0;
+    const PatchGrid& g = grids[p];
+    for (size_t k = 0; k < g.points.size(); ++k) {
+      const double d = dp[first[p] + k];
+      f.max_patch_to_source = std::max(f.max_patch_to_source, d);
+      sum2 += g.weight[k] * d * d, weight += g.weight[k];
+    }
+    f.patch_samples = static_cast<Index>(g.points.size());
+    f.rms_patch_to_source = weight > 0 ? std::sqrt(sum2 / weight) : 0.0;
+    f.patch_samples += static_cast<Index>(std::count(extra_patch.begin(), extra_patch.end(), p));
+    out.max_patches_to_source = std::max(out.max_patches_to_source, f.max_patch_to_source);
+    s2_patches += sum2, w_patches += weight;
+  }
+  out.rms_source_to_patches = w_source > 0 ? std::sqrt(s2_source / w_source) : 0.0;
+  out.rms_patches_to_source = w_patches > 0 ? std::sqrt(s2_patches / w_patches) : 0.0;
+  // Faces the mesher left without samples are unmeasured: uncovered.
+  out.source_area = w_source + S.unmeshed_area;
+  out.uncovered_area += S.unmeshed_area;
+  out.coverage = out.source_area > 0 ? 1.0 - out.uncovered_area / out.source_area : 0.0;
+  out.source_samples = static_cast<Index>(nS);
+  out.patch_samples = static_cast<Index>(nG + extra.size());
+  out.triangle_uncovered = triangle_uncovered(surface, S, ds, tolerance);
+  watch.lap("triangles");
+  return out;
+}
+
+}  // namespace stripweave

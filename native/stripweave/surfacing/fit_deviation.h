@@ -1,0 +1,93 @@
+// fit_deviation: how far the fitted patch network is from the source, both
+// ways, and how much of the source it covers (the surfacing stage's report).
+//
+// Input   the Surface (its source: B-rep, else source mesh), the fitted
+//         patches (model units), the tolerance (model units), options.
+// Output  FitDeviation (model units):
+//           source -> patches  per dense source sample (source_samples.h),
+//                              its distance to the nearest fitted patch;
+//                              the sample belongs to that patch
+//           patches -> source  per dense patch sample (patch_grid.h), its
+//                              distance to the source
+//         max and area-weighted RMS of each, overall and per patch;
+//         coverage: the fraction of the source area whose samples lie
+//         within tolerance of a patch (faces the B-rep mesher left empty
+//         count as uncovered); uncovered_area; per solver-mesh triangle the
+//         fraction of its source samples' area that is uncovered (each
+//         sample located on the solver mesh, cgal/surface_locator.h;
+//         a triangle no sample lands on takes the mean of its neighbours').
+// Method  Nearest points in two steps: a CGAL AABB tree over a fine
+//         tessellation (of the patch grids, of the source) finds the
+//         candidate triangle, whose barycentric (u, v) starts a Newton
+//         refinement on the exact geometry (distance_to_patch on the
+//         B-spline; BrepSource::foot_on_face on the B-rep face; a mesh
+//         source is its own tessellation, exact).
+// Bound   Both tessellations have their vertices exactly on the geometry;
+//         eps is the largest chordal error of their triangles (measured at
+//         every triangle's centroid: to second order the largest error over
+//         a triangle is at most 1.5 times its centroid's; BRepMesh's
+//         boundary polygons lie within its edge deflection, 2 * chord). The
+//         distance d_mesh to a tessellation then brackets the true one,
+//         d_mesh - eps <= d <= d_mesh + eps, and the Newton answer is the
+//         distance to a point of the geometry no farther than its start,
+//         d_mesh + eps away. So a reported distance is never below the true
+//         one on a patch (the foot lies on the patch's square), nor on the
+//         B-rep but where the local Newton slips past a face's trim, and
+//         there it is taken at least d_mesh - eps; it is above the true one
+//         by at most 2 eps, and only where the tessellation's nearest point
+//         lies on another face or patch than the true foot point.
+//         `measurement_error` is that 2 eps; with the default chord
+//         (tolerance / 10) it is at most 0.4 of the tolerance (0.3 away
+//         from B-rep face borders), and far less in practice (Newton
+//         converges on the right face or patch).
+//         Sampling: the patch grids take 4 samples per span, and 8 around
+//         every sample within 0.7 of its patch's largest (patch_grid.h: at 8
+//         per span the sampled maximum is within 8 % of the maximum between
+//         samples; at 4, within 29 %, so every bump that could top it is
+//         refined); RMS figures come from the 4 per span;
+//         the source samples are spaced at most `spacing` (default: the
+//         solver mesh's mean edge, so one or two per solver triangle), which
+//         sizes the coverage's resolution.
+// Threads Samples are measured side by side (core/parallel.h), each into its
+//         own slot, with per-thread B-rep copies; sums run in sample order,
+//         so the figures do not depend on the thread count.
+#pragma once
+
+#include "stripweave/core/stopwatch.h"
+#include "stripweave/surface/surface.h"
+#include "stripweave/surfacing/bspline.h"
+
+namespace stripweave {
+
+struct DeviationOptions {
+  double spacing = 0;        // model units; 0: the solver mesh's mean edge length
+  double chord = 0;          // model units; 0: tolerance / 10
+  int samples_per_span = 8;
+  Index max_source_samples = 600000;  // the spacing grows to stay under this
+};
+
+struct PatchDeviation {
+  double max_source_to_patch = 0, rms_source_to_patch = 0;
+  double max_patch_to_source = 0, rms_patch_to_source = 0;
+  Index source_samples = 0, patch_samples = 0;
+  double source_area = 0;     // of the source samples that belong to it
+  double max_deviation() const { return std::max(max_source_to_patch, max_patch_to_source); }
+};
+
+struct FitDeviation {
+  double max_source_to_patches = 0, rms_source_to_patches = 0;
+  double max_patches_to_source = 0, rms_patches_to_source = 0;
+  double source_area = 0, uncovered_area = 0, coverage = 0;
+  std::vector<PatchDeviation> per_patch;
+  std::vector<double> triangle_uncovered;  // per solver triangle, in [0, 1]
+  Index source_samples = 0, patch_samples = 0;
+  Index unmeshed_faces = 0;
+  double spacing = 0, measurement_error = 0;
+  double source_chord = 0, patch_chord = 0;  // largest centroid chordal errors of the two tessellations
+  StageTimings timings;                      // ms per step
+};
+
+FitDeviation fit_deviation(const Surface& surface, const std::vector<BSplinePatch>& patches, double tolerance,
+                           const DeviationOptions& options = {});
+
+}  // namespace stripweave
