@@ -19,7 +19,6 @@ compute_layout returns, in model units:
     timings_ms {"regions", "layout"}
 """
 import json
-import os
 
 from ._native import native
 
@@ -55,12 +54,9 @@ def compute_layout(design_session):
 
 
 def write_layout(result, path):
-    """Write layout.json atomically (a reader never sees half a file)."""
-    tmp = path + ".tmp"
-    with open(tmp, "w", encoding="utf-8") as f:
-        json.dump(result, f)
-    os.replace(tmp, path)
-    return path
+    """Write layout.json atomically (files.write_atomic: a reader never sees half a file)."""
+    from .files import write_atomic
+    return write_atomic(path, json.dumps(result))
 
 
 def format_summary(result):

@@ -17,6 +17,7 @@ Options: k=4, max_turn_deg=30, alpha=1.0, beta=0.25, boundary="aligned" |
 are shared between both cores). Queries release the GIL, and a newer query
 cancels an older one still running (it raises Cancelled).
 """
+import math
 import time
 
 from ._native import native
@@ -96,6 +97,8 @@ def parse_anchor(text):
         raise native.InputError(f"cannot read anchor '{text}': expected X,Y,Z or X,Y,Z,DX,DY,DZ") from None
     if len(values) not in (3, 6):
         raise native.InputError(f"cannot read anchor '{text}': expected X,Y,Z or X,Y,Z,DX,DY,DZ")
+    if not all(math.isfinite(x) for x in values):   # the native side also bounds its distance
+        raise native.InputError(f"cannot read anchor '{text}': a coordinate is NaN or infinite")
     return values
 
 

@@ -1,5 +1,7 @@
 #include "stripweave/cgal/surface_locator.h"
 
+#include "stripweave/core/error.h"
+
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 #include <CGAL/AABB_triangle_primitive.h>
@@ -35,6 +37,11 @@ SurfaceLocator::SurfaceLocator(const TriangleMesh& mesh) : impl_(std::make_uniqu
 SurfaceLocator::~SurfaceLocator() = default;
 
 SurfacePoint3 SurfaceLocator::closest(const Vec3& p) const {
+  // The exact fallback of the filtered kernel turns a double into a GMP
+  // rational, which raises SIGFPE on an infinity: a point whose squared
+  // distances overflow must never reach the tree.
+  if (!(p.cwiseAbs().maxCoeff() <= kMaxQueryCoordinate))
+    throw InputError("a query point is not finite or is too far from the surface to locate");
   const auto [q, primitive] = impl_->tree.closest_point_and_primitive(to_point(p));
   SurfacePoint3 out;
   out.point = Vec3(q.x(), q.y(), q.z());

@@ -5,6 +5,8 @@
 // cursor.
 //   closest(p) -> {point on the mesh, triangle id, barycentric coordinates,
 //                 distance}
+//   InputError for a point with a coordinate not finite or beyond
+//   kMaxQueryCoordinate (the mesh's own units): farther points overflow.
 #pragma once
 
 #include "stripweave/surface/triangle_mesh.h"
@@ -19,6 +21,8 @@ struct SurfacePoint3 {
   Vec3 barycentric = Vec3::Zero();
   double distance = 0;
 };
+
+constexpr double kMaxQueryCoordinate = 1e100;
 
 class SurfaceLocator {
  public:
