@@ -445,3 +445,26 @@ def test_weave_into_the_folder_of_its_own_design_keeps_a_backup(tmp_path, box_st
              target_triangles=2000)
     assert (tmp_path / "design.json.bak").read_bytes() == before
     assert json.loads((tmp_path / "report.json").read_text())["strips"] == 1
+
+
+# --- 6. the bidirectional search under an asymmetric g' mask ------------------------------
+
+@pytest.mark.parametrize("seed", [0, 3])
+def test_hover_equals_dijkstra_with_an_asymmetric_mask(seed):
+    """The backward half checked node m, not reverse(m), against the mask: with a mask not
+    closed under reverse, hover used disabled nodes and found costlier loops than Dijkstra."""
+    from models import torus
+    from stripweave.loops import LoopSession
+    surface = sw.from_shape(torus(), target_triangles=3000)
+    session = LoopSession(surface)
+    n = session.stats()["gprime_nodes"]
+    disabled = [int(x) for x in np.random.default_rng(seed).choice(n, n // 5, replace=False)]
+    session.native.set_disabled(disabled)
+    costs = {}
+    for algorithm in ("bidirectional", "dijkstra", "astar"):
+        session.algorithm = algorithm
+        loop = session.best_loop(surface.vertices[100])
+        costs[algorithm] = loop["cost"]
+        assert not set(loop["nodes"]) & set(disabled)
+    assert costs["bidirectional"] == pytest.approx(costs["dijkstra"], rel=1e-12)
+    assert costs["astar"] == pytest.approx(costs["dijkstra"], rel=1e-12)

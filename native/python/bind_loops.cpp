@@ -182,6 +182,8 @@ void bind_loops(py::module_& m) {
         const Vec3 t = s.graph().tangent(s.surface(), node);
         return std::vector<double>{t.x(), t.y(), t.z()};
       })
+      .def("reverse_node", [](const LoopSession& s, Index node) { return s.graph().reverse.at(node); },
+           "the g' node of the same g edge run the other way")
       .def("node_vertices", [](const LoopSession& s, Index node) {
         return py::make_tuple(s.graph().tail.at(node), s.graph().head.at(node));
       })
