@@ -389,6 +389,7 @@ Surface surface_from_mesh(const TriangleMesh& raw, const SurfaceOptions& opt, Pr
 }
 
 Surface load_surface(const std::string& path, const SurfaceOptions& options, Progress* progress) {
+  check_options(options);  // before reading: a bad option is refused at once, not after a big file
   // Reading is timed here, so `bench` sees it as the first stage.
   StageTimings read_time;
   Stopwatch clock(read_time);
