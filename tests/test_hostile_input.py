@@ -337,7 +337,6 @@ def _design_text(**options):
     (b"[" * 100000 + b"]" * 100000, "nests its JSON too deeply"),
     (_design_text(k=4.5).encode(), "options.k must be a whole number"),
     (_design_text(max_turn_deg=float("nan")).encode(), "options.max_turn_deg"),
-    (_design_text(alpha="1").encode(), "options.alpha"),
     (_design_text(feature_angle_deg=500).encode(), "options.feature_angle_deg"),
     (json.dumps({"format": "stripweave-design", "version": 1, "model": [1], "strips": []}).encode(), "'model'"),
     (b'{"format": "stripweave-design", "version": 1, "strips": [{"anchors": [{"point": [1' + b"0" * 400 +
