@@ -188,6 +188,19 @@ def test_off_header_counts_beyond_the_file_size_are_refused_before_allocating(tm
              "line 2: the header announces 999999999 vertices")
 
 
+@pytest.mark.parametrize("element,line", [("vertex", 3), ("face", 7)])
+def test_ply_header_counts_beyond_the_file_size_are_refused_with_their_line(tmp_path, element, line):
+    """CGAL said only 'not a valid PLY file' for a header announcing a billion elements."""
+    counts = {"vertex": 3, "face": 1, element: 999999999}
+    header = (f"ply\nformat binary_little_endian 1.0\nelement vertex {counts['vertex']}\nproperty float x\n"
+              f"property float y\nproperty float z\nelement face {counts['face']}\n"
+              "property list uchar int vertex_indices\nend_header\n").encode()
+    path = tmp_path / "lying.ply"
+    path.write_bytes(header + struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0) + b"\x03" + struct.pack("<3i", 0, 1, 2))
+    with pytest.raises(sw.InputError, match=f"line {line}: the header announces 999999999 {element} elements"):
+        sw.read_mesh(str(path))
+
+
 @pytest.mark.parametrize("special", ["fifo", "/dev/zero", "/dev/urandom"])
 @pytest.mark.parametrize("ext", ["stl", "off", "step"])
 def test_only_regular_files_are_opened(tmp_path, special, ext):
@@ -312,6 +325,13 @@ def test_corrupt_off_number_is_refused_with_its_line(tmp_path, corrupt, problem)
 
 def test_off_with_fewer_lines_than_its_counts_is_refused(tmp_path):
     _refused(tmp_path / "short.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n", "ends after 1 of its 2 faces")
+
+
+@pytest.mark.parametrize("count", [0, -3])
+def test_loop_alternatives_below_one_are_refused(box_mesh, count):
+    from stripweave.loops import LoopSession
+    with pytest.raises(sw.InputError, match="alternatives must be a whole number, 1 or more"):
+        LoopSession(sw.from_mesh(*box_mesh, target_triangles=0)).loops([(5, 5, 10)], alternatives=count)
 
 
 def test_two_anchors_at_one_point_with_different_tangents_are_refused(box_mesh):

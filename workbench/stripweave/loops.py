@@ -64,6 +64,9 @@ class LoopSession:
 
     def loops(self, anchors, alternatives=1, open_curves=True):
         """Up to `alternatives` distinct loops through the anchors, cheapest first, as dicts."""
+        if isinstance(alternatives, bool) or not isinstance(alternatives, int) or alternatives < 1:
+            raise native.InputError(f"the number of alternatives must be a whole number, 1 or more, "
+                                    f"got {alternatives!r}")
         return [self.describe(loop) for loop in self.native.loops([list(a) for a in anchors], alternatives,
                                                                    open_curves)]
 

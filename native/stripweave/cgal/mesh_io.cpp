@@ -107,9 +107,34 @@ bool is_mesh_file(const std::string& path) { return format_of(path) != Format::k
 
 namespace {
 
+// A PLY header's element counts against the file's size (every element takes
+// at least a byte): CGAL would otherwise try to read what a lying count
+// announces, and says only "not a valid PLY file".
+void check_ply_header(const std::string& path) {
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  std::ifstream in(path, std::ios::binary);
+  std::string head(std::min<std::uintmax_t>(size, 1 << 16), '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  const std::size_t end = head.find("end_header");
+  if (head.compare(0, 3, "ply") != 0 || end == std::string::npos)
+    throw_read(path, "not a valid PLY file (no 'ply' ... 'end_header' header in its first 64 KB)");
+  head.resize(end);  // MeshText views the string: it must outlive the text
+  MeshText text(path, head);
+  while (text.next_line()) {
+    if (text.tokens()[0] != "element") continue;
+    const long long count = text.integer(2, "the element count");
+    if (count < 0 || static_cast<std::uintmax_t>(count) > size)
+      text.fail("the header announces " + std::to_string(count) + " " + std::string(text.tokens()[1]) +
+                " elements, more than a file of " + std::to_string(size) + " bytes can hold");
+  }
+}
+
 // PLY through CGAL (binary and ASCII, many property layouts), checked here.
 TriangleMesh read_ply(const std::string& path) {
   check_readable(path);
+  check_ply_header(path);
   const std::string invalid = "not a valid PLY file";
   std::vector<Point> points;
   std::vector<Polygon> polygons;

@@ -23,6 +23,7 @@ std::string read_regular_file(const std::string& path);
 
 class MeshText {
  public:
+  // `bytes` is viewed, not copied: it must outlive the MeshText.
   MeshText(std::string path, const std::string& bytes);
   bool next_line();  // false at the end of the file
   const std::vector<std::string_view>& tokens() const { return tokens_; }
