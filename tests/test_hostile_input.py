@@ -487,3 +487,19 @@ def test_hover_equals_dijkstra_with_an_asymmetric_mask(seed):
         assert not set(loop["nodes"]) & set(disabled)
     assert costs["bidirectional"] == pytest.approx(costs["dijkstra"], rel=1e-12)
     assert costs["astar"] == pytest.approx(costs["dijkstra"], rel=1e-12)
+
+
+def test_a_failed_picture_write_leaves_the_old_file_and_names_the_path(tmp_path):
+    """On a full disk the error named no file and left a truncated preview.png."""
+    import errno
+    from stripweave.files import atomic_path
+    path = tmp_path / "preview.png"
+    path.write_bytes(b"the old picture")
+    with pytest.raises(sw.InputError, match=f"cannot write {path}: No space left on device"):
+        with atomic_path(str(path)) as tmp:
+            assert tmp.endswith(".png") and os.path.dirname(tmp) == str(tmp_path)
+            with open(tmp, "wb") as f:
+                f.write(b"half a pic")
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+    assert path.read_bytes() == b"the old picture"
+    assert os.listdir(tmp_path) == ["preview.png"]

@@ -7,10 +7,11 @@ one writer at a time per folder.
                                   `<path>.tmp`, shared: 7 of 12 concurrent saves were invalid JSON).
                                   A symlink's target is written (the link stays), the file's mode
                                   is kept (a new file gets the umask's).
+    with atomic_path(path) as tmp: writer(tmp)    the same for a writer that takes a path
     check_out_dir(out)            creates `out` and proves it writable, or InputError naming it:
                                   before any computation, not after.
-    with out_lock(out): ...       an exclusive flock on out/.stripweave.lock for the whole run:
-                                  a second weave into the same folder waits for the first.
+    with out_lock(out): ...       an exclusive flock on out/.stripweave.lock while a run writes:
+                                  a second weave into the same folder waits, its files never mix.
 """
 import contextlib
 import fcntl
@@ -23,6 +24,19 @@ from ._native import native
 
 def write_atomic(path, text, encoding="utf-8"):
     """Write `text` (str or bytes) to `path` atomically; returns `path`."""
+    with atomic_path(path) as tmp:
+        with open(tmp, "wb") as f:
+            f.write(text.encode(encoding) if isinstance(text, str) else text)
+            f.flush()
+            os.fsync(f.fileno())
+    return path
+
+
+@contextlib.contextmanager
+def atomic_path(path):
+    """A temporary path in the folder of `path` (same extension) for a writer that takes a path
+    (the preview pictures); on success it replaces `path` (write_atomic's rules), on failure it
+    is removed and `path` is untouched. An OSError (a full disk) is an InputError naming `path`."""
     target = os.path.realpath(path)  # through a symlink: replace its target, keep the link
     folder = os.path.dirname(target) or "."
     try:
@@ -31,12 +45,14 @@ def write_atomic(path, text, encoding="utf-8"):
         umask = os.umask(0)
         os.umask(umask)
         mode = 0o666 & ~umask
-    fd, tmp = tempfile.mkstemp(dir=folder, prefix=f".{os.path.basename(target)}.", suffix=".tmp")
+    base = os.path.basename(target)
     try:
-        with os.fdopen(fd, "wb") as f:
-            f.write(text.encode(encoding) if isinstance(text, str) else text)
-            f.flush()
-            os.fsync(f.fileno())
+        fd, tmp = tempfile.mkstemp(dir=folder, prefix=f".{base}.", suffix=os.path.splitext(base)[1] or ".tmp")
+    except OSError as exc:
+        raise native.InputError(f"cannot write {path}: {exc.strerror or exc}") from None
+    os.close(fd)
+    try:
+        yield tmp
         os.chmod(tmp, mode)
         os.replace(tmp, target)
     except BaseException as exc:
@@ -45,7 +61,6 @@ def write_atomic(path, text, encoding="utf-8"):
         if isinstance(exc, OSError):
             raise native.InputError(f"cannot write {path}: {exc.strerror or exc}") from None
         raise
-    return path
 
 
 def check_out_dir(out):

@@ -28,7 +28,7 @@ import time
 
 from ._native import native
 from .design import Design
-from .files import check_out_dir, out_lock, write_atomic
+from .files import atomic_path, check_out_dir, out_lock, write_atomic
 from .layout import write_layout
 from .strips import DesignSession
 from .weave import WeaveOptions, auto_weave
@@ -194,7 +194,8 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
         if preview:
             say("rendering preview.png")
             from .preview import render_design
-            render_design(paths["preview"], ds, layout, regions=details)
+            with atomic_path(paths["preview"]) as tmp:   # a full disk leaves no truncated picture
+                render_design(tmp, ds, layout, regions=details)
             lap("preview")
         else:
             del paths["preview"]
@@ -210,7 +211,8 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
                     say("rendering deviation.png")
                     from .preview import render_deviation
                     paths["deviation"] = os.path.join(out, "deviation.png")
-                    render_deviation(paths["deviation"], ds, report["fit"], details=details)
+                    with atomic_path(paths["deviation"]) as tmp:
+                        render_deviation(tmp, ds, report["fit"], details=details)
             except native.InputError as exc:
                 # The design and its layout are still worth having: report.json says why
                 # there is no STEP, and the error names the folder.
