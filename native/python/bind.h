@@ -11,7 +11,10 @@
 namespace stripweave_python {
 // Shared by the stage bindings (defined in bind_loops.cpp).
 // An anchor as (x, y, z) or (x, y, z, dx, dy, dz) in model units.
+// InputError for a non-finite point, one over 1e3 diagonals from the model, a zero direction.
 stripweave::Anchor anchor_from(const stripweave::Surface& s, const std::vector<double>& a);
+// InputError when two anchors of one chain sit at one point with different tangents.
+void check_anchor_chain(const std::vector<stripweave::Anchor>& anchors);
 // An embedded path as a dict: points (model units), vertex, edge, t, node_start, length.
 pybind11::dict path_dict(const stripweave::Surface& s, const stripweave::SurfacePath& p);
 // An (n, 3) array (or anything numpy turns into one) as points; InputError

@@ -22,6 +22,11 @@ std::vector<StripSpec> specs_from(const Surface& s, const std::vector<std::vecto
   for (const auto& anchors : strips) {
     StripSpec spec;
     for (const auto& a : anchors) spec.anchors.push_back(anchor_from(s, a));
+    try {
+      check_anchor_chain(spec.anchors);
+    } catch (const InputError& e) {
+      throw InputError("strip " + std::to_string(specs.size() + 1) + ": " + e.what());
+    }
     specs.push_back(std::move(spec));
   }
   return specs;

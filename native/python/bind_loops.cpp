@@ -10,6 +10,8 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include <sstream>
+
 namespace py = pybind11;
 using namespace stripweave;
 
@@ -25,18 +27,48 @@ Vec3 vec3(const std::vector<double>& v, const char* what) {
 }  // namespace
 
 // An anchor as (x, y, z) or (x, y, z, dx, dy, dz), model units.
+// The point must lie within kAnchorReach bbox diagonals of the model's
+// centre: a farther point cannot be on the part, and one near the double
+// range (1e307) overflows the closest-point search, whose exact fallback
+// (GMP) then kills the process with SIGFPE. Refused here, before any search.
 Anchor anchor_from(const Surface& s, const std::vector<double>& a) {
+  constexpr double kAnchorReach = 1e3;
   if (a.size() != 3 && a.size() != 6) throw InputError("an anchor is X,Y,Z or X,Y,Z,DX,DY,DZ");
   for (double x : a)
     if (!std::isfinite(x)) throw InputError("an anchor has a NaN or infinite coordinate");
   Anchor anchor;
-  anchor.point = s.similarity.to_normalized(Vec3(a[0], a[1], a[2]));
+  const Vec3 p(a[0], a[1], a[2]);
+  anchor.point = s.similarity.to_normalized(p);
+  const double reach = anchor.point.cwiseAbs().maxCoeff();
+  if (!(reach <= kAnchorReach)) {
+    std::ostringstream msg;
+    msg << "an anchor at (" << p.x() << ", " << p.y() << ", " << p.z() << ") is " << reach
+        << " bounding-box diagonals from the model's centre (at most " << kAnchorReach << "): it is off the part";
+    throw InputError(msg.str());
+  }
   if (a.size() == 6) {
-    anchor.direction = Vec3(a[3], a[4], a[5]);
-    if (anchor.direction.norm() == 0) throw InputError("an anchor direction must not be zero");
-    anchor.direction.normalize();
+    // Scaled before normalizing: the norm of (1e307, 1e307, 0) overflows.
+    const Vec3 d(a[3], a[4], a[5]);
+    const double big = d.cwiseAbs().maxCoeff();
+    if (big == 0) throw InputError("an anchor direction must not be zero");
+    anchor.direction = (d / big).normalized();
   }
   return anchor;
+}
+
+// Two anchors of one chain at one point (1e-9 of the diagonal apart) must not
+// ask for different tangents: no curve passes one point in two directions
+// (it gave a degenerate patch that was reported valid).
+void check_anchor_chain(const std::vector<Anchor>& anchors) {
+  constexpr double kSamePoint = 1e-9, kSameDirection = 0.9998;  // cos 1 degree
+  for (size_t i = 0; i < anchors.size(); ++i)
+    for (size_t j = i + 1; j < anchors.size(); ++j) {
+      const Anchor &a = anchors[i], &b = anchors[j];
+      if (!a.directional() || !b.directional() || (a.point - b.point).norm() > kSamePoint) continue;
+      if (std::abs(a.direction.dot(b.direction)) >= kSameDirection) continue;
+      throw InputError("anchors " + std::to_string(i + 1) + " and " + std::to_string(j + 1) +
+                       " are at one point with different tangents: a curve passes a point in one direction");
+    }
 }
 
 std::vector<Vec3> points_from(const py::handle& h, const std::string& what) {
@@ -121,6 +153,7 @@ void bind_loops(py::module_& m) {
       .def("loops", [](LoopSession& s, const std::vector<std::vector<double>>& anchors, int count, bool allow_open) {
              std::vector<Anchor> parsed;
              for (const auto& a : anchors) parsed.push_back(anchor_from(s.surface(), a));
+             check_anchor_chain(parsed);
              py::gil_scoped_release release;
              return s.loops(parsed, count, allow_open);
            },
@@ -149,6 +182,8 @@ void bind_loops(py::module_& m) {
         const Vec3 t = s.graph().tangent(s.surface(), node);
         return std::vector<double>{t.x(), t.y(), t.z()};
       })
+      .def("reverse_node", [](const LoopSession& s, Index node) { return s.graph().reverse.at(node); },
+           "the g' node of the same g edge run the other way")
       .def("node_vertices", [](const LoopSession& s, Index node) {
         return py::make_tuple(s.graph().tail.at(node), s.graph().head.at(node));
       })

@@ -26,7 +26,8 @@ using namespace stripweave;
 namespace {
 
 using Array3d = py::array_t<double, py::array::c_style | py::array::forcecast>;
-using Array3i = py::array_t<std::int32_t, py::array::c_style | py::array::forcecast>;
+// 64-bit on the way in: an index of 2**32 + k must be refused, not wrapped to k.
+using Array3i = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>;
 
 template <typename T, int N, typename F>
 py::array_t<T> rows(Index count, F&& row) {
@@ -62,7 +63,14 @@ TriangleMesh mesh_from_arrays(const Array3d& vertices, const Array3i& triangles)
   m.positions.reserve(v.shape(0));
   for (py::ssize_t i = 0; i < v.shape(0); ++i) m.positions.emplace_back(v(i, 0), v(i, 1), v(i, 2));
   m.triangles.reserve(t.shape(0));
-  for (py::ssize_t i = 0; i < t.shape(0); ++i) m.triangles.push_back({t(i, 0), t(i, 1), t(i, 2)});
+  const std::int64_t n = v.shape(0);
+  for (py::ssize_t i = 0; i < t.shape(0); ++i) {
+    for (int j = 0; j < 3; ++j)
+      if (t(i, j) < 0 || t(i, j) >= n)
+        throw InputError("triangle " + std::to_string(i) + " refers to vertex " + std::to_string(t(i, j)) +
+                         ", but the mesh has only " + std::to_string(n) + " vertices");
+    m.triangles.push_back({static_cast<Index>(t(i, 0)), static_cast<Index>(t(i, 1)), static_cast<Index>(t(i, 2))});
+  }
   return m;
 }
 
@@ -103,6 +111,17 @@ PYBIND11_MODULE(_stripweave, m) {
       PyErr_SetString(input_error.ptr(), e.what());
     } catch (const Cancelled& e) {
       PyErr_SetString(cancelled.ptr(), e.what());
+    } catch (const py::builtin_exception&) {
+      throw;  // pybind11's own (cast, index, stop iteration): its default translator raises them
+    } catch (const py::error_already_set&) {
+      throw;  // a Python error from a callback: raised as it was
+    } catch (const std::bad_alloc&) {
+      // No native failure may end the process (a macro would take FreeCAD down).
+      PyErr_SetString(input_error.ptr(), "out of memory: the model or the options ask for more than this machine has");
+    } catch (const std::exception& e) {
+      PyErr_SetString(input_error.ptr(), (std::string("internal error in the native library: ") + e.what()).c_str());
+    } catch (...) {
+      PyErr_SetString(input_error.ptr(), "internal error in the native library (an unknown exception, e.g. OpenCASCADE's)");
     }
   });
 

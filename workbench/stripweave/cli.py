@@ -23,6 +23,7 @@ one shape or mesh. Bad input ends with a one-line error and exit status 1.
 """
 import argparse
 import json
+import os
 import sys
 
 
@@ -101,17 +102,14 @@ def cmd_loop(args):
 
 
 def cmd_strips(args):
-    import os
     from .design import Design
+    from .files import write_atomic
     from .surface import load
     design = Design.load(args.design)
     surface = load(args.model, **_surface_options_for(args, design))
     session = _design_session(args, surface, design)
     result = session.strips_json()
-    os.makedirs(args.out, exist_ok=True)
-    path = os.path.join(args.out, "strips.json")
-    with open(path, "w", encoding="utf-8") as f:
-        json.dump(result, f)
+    path = write_atomic(os.path.join(args.out, "strips.json"), json.dumps(result))
     if args.json:
         print(json.dumps({k: v for k, v in result.items() if k != "strips"} |
                          {"strips": [{k: v for k, v in s.items() if k != "points"} for s in result["strips"]],
@@ -137,7 +135,6 @@ def cmd_strips(args):
 
 
 def cmd_layout(args):
-    import os
     from .design import Design
     from .layout import compute_layout, format_summary, write_layout
     from .surface import load
@@ -145,7 +142,6 @@ def cmd_layout(args):
     surface = load(args.model, **_surface_options_for(args, design))
     session = _design_session(args, surface, design)
     result = compute_layout(session)
-    os.makedirs(args.out, exist_ok=True)
     path = write_layout(result, os.path.join(args.out, "layout.json"))
     if args.json:
         colours = {}
@@ -346,7 +342,10 @@ def build_parser():
 def main(argv=None):
     args = build_parser().parse_args(argv)
     from ._native import native
+    from .files import check_out_dir
     try:
+        if getattr(args, "out", None) is not None:
+            check_out_dir(args.out)   # before the work: an unusable folder is found at once
         return args.run(args)
     except native.InputError as exc:
         print(f"stripweave: error: {exc}", file=sys.stderr)
@@ -354,6 +353,11 @@ def main(argv=None):
         print("stripweave: cancelled", file=sys.stderr)
     except OSError as exc:
         print(f"stripweave: error: {exc}", file=sys.stderr)
+    except (RecursionError, MemoryError, UnicodeError, TypeError, ValueError, ArithmeticError) as exc:
+        # No traceback reaches a user; STRIPWEAVE_TRACEBACK=1 shows it (for a bug report).
+        if os.environ.get("STRIPWEAVE_TRACEBACK"):
+            raise
+        print(f"stripweave: error: {type(exc).__name__}: {exc}", file=sys.stderr)
     return 1
 
 

@@ -39,6 +39,19 @@ DEFAULT_OPTIONS = {"k": 4, "max_turn_deg": 30, "alpha": 1.0, "beta": 0.25, "boun
                    # are refused: 45 is the paper's (§6.2); more asks for crossings nearer to
                    # right angles (automatic refinement, weave.py).
                    "compatibility_angle_deg": 45}
+# Ranges of the numeric options (a NaN or 1e308 must not reach the native side).
+OPTION_RANGES = {"k": (1, 16, int), "max_turn_deg": (1, 179, float), "alpha": (0, 1e6, float),
+                 "beta": (0, 1e6, float), "feature_angle_deg": (1e-6, 179.999, float)}
+
+
+def _in_range(value, low, high, kind):
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return False
+    if kind is int and not isinstance(value, int):
+        return False
+    return low <= value <= high  # False for NaN
+
+
 # The options the loop search takes (the rest belong to the surface stage).
 LOOP_OPTIONS = ("k", "max_turn_deg", "alpha", "beta", "boundary")
 
@@ -52,7 +65,7 @@ def _vector(value, where, what):
         raise _error(where, f"{what} must be a list of three numbers, got {value!r}")
     try:
         v = [float(x) for x in value]
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise _error(where, f"{what} must be a list of three numbers, got {value!r}") from None
     if not all(math.isfinite(x) for x in v):
         raise _error(where, f"{what} has a NaN or infinite coordinate")
@@ -161,9 +174,12 @@ class Design:
         angle = options.get("compatibility_angle_deg", DEFAULT_OPTIONS["compatibility_angle_deg"])
         if isinstance(angle, bool) or not isinstance(angle, (int, float)) or not 0 < angle < 90:
             raise _error("", f"options.compatibility_angle_deg must be within (0, 90) degrees, got {angle!r}")
-        for key in ("k", "max_turn_deg", "alpha", "beta", "feature_angle_deg"):
-            if key in options and not isinstance(options[key], (int, float)):
-                raise _error("", f"options.{key} must be a number, got {options[key]!r}")
+        for key, (low, high, kind) in OPTION_RANGES.items():
+            if key in options and not _in_range(options[key], low, high, kind):
+                raise _error("", f"options.{key} must be {'a whole number' if kind is int else 'a number'} "
+                                 f"within [{low:g}, {high:g}], got {options[key]!r}")
+        if not isinstance(data.get("model", {}) or {}, dict):
+            raise _error("", "'model' must be an object")
         strips = []
         for i, s in enumerate(data["strips"]):
             where = f", strip {i + 1}"
@@ -193,22 +209,28 @@ class Design:
 
     @classmethod
     def load(cls, path):
+        """Read a design file; every way it can be unusable is a one-line InputError."""
+        path = os.fspath(path)
+        if not os.path.exists(path):
+            raise native.InputError(f"design file {path} does not exist")
+        if not os.path.isfile(path):  # a FIFO or a device is read forever
+            raise native.InputError(f"design file {path} is not a regular file")
         try:
             with open(path, encoding="utf-8") as f:
                 data = json.load(f)
         except json.JSONDecodeError as exc:
             raise native.InputError(f"design file {path} is not valid JSON: {exc}") from None
+        except UnicodeDecodeError as exc:
+            raise native.InputError(f"design file {path} is not UTF-8 text (byte {exc.start}: "
+                                    f"{exc.object[exc.start:exc.start + 1]!r})") from None
+        except RecursionError:
+            raise native.InputError(f"design file {path} nests its JSON too deeply") from None
+        except OSError as exc:
+            raise native.InputError(f"cannot read design file {path}: {exc.strerror or exc}") from None
         return cls.from_dict(data)
 
     def save(self, path):
-        # Write to a temporary file first: a failed save never destroys the user's design.
-        tmp = f"{path}.tmp"
-        try:
-            with open(tmp, "w", encoding="utf-8") as f:
-                json.dump(self.to_dict(), f, indent=2)
-                f.write("\n")
-            os.replace(tmp, path)
-        except BaseException:
-            if os.path.exists(tmp):
-                os.remove(tmp)
-            raise
+        """Write design.json atomically (files.write_atomic): a failed or concurrent save never
+        destroys or mixes the user's design; a symlink and the file's mode are kept."""
+        from .files import write_atomic
+        write_atomic(path, json.dumps(self.to_dict(), indent=2) + "\n")

@@ -21,6 +21,8 @@ strip), "stopped" (why weaving ended), "work" (units spent, weave.py),
 "cancelled_queries" (loop queries cut by the timeout: the only machine-dependent step
 besides the wall-clock safety net).
 """
+import contextlib
+import functools
 import json
 import os
 import sys
@@ -28,6 +30,8 @@ import time
 
 from ._native import native
 from .design import Design
+from .files import atomic_path, check_out_dir, out_lock, write_atomic
+from .layout import write_layout
 from .strips import DesignSession
 from .weave import WeaveOptions, auto_weave
 
@@ -123,9 +127,27 @@ def _export_step(ds, tolerance, path):
     return fit_report(refit_design(ds, tolerance=tolerance, step_path=path))
 
 
+def _keep_backup(design_path, target):
+    """A weave into the folder of its own design file keeps the given design as design.json.bak."""
+    if design_path is not None and os.path.exists(target) and os.path.samefile(design_path, target):
+        with open(target, "rb") as f:
+            write_atomic(target + ".bak", f.read())
+
+
+def _releasing_locks(run):
+    """Give `run` an ExitStack (_locks) that is closed however it ends: the output folder's
+    lock is never left held by a failed run in a long FreeCAD session."""
+    @functools.wraps(run)
+    def wrapper(*args, **kwargs):
+        with contextlib.ExitStack() as locks:
+            return run(*args, _locks=locks, **kwargs)
+    return wrapper
+
+
+@_releasing_locks
 def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, features=True, boundary=None,
           seed=0, step=False, tolerance=None, verbose=False, progress=None, target_triangles=30000,
-          feature_angle_deg=None, preview=True, **weave_options):
+          feature_angle_deg=None, preview=True, _locks=None, **weave_options):
     """Weave a quad layout on a model; see the module doc.
 
     model       a model file path, a Part shape (or object with .Shape) or a Surface
@@ -152,8 +174,11 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
         if verbose:
             print(f"stripweave weave: {text}", file=sys.stderr, flush=True)
 
-    if isinstance(design, (str, os.PathLike)):
-        design = Design.load(design)
+    design_path = os.fspath(design) if isinstance(design, (str, os.PathLike)) else None
+    if design_path is not None:
+        design = Design.load(design_path)
+    if out is not None:
+        check_out_dir(out)  # an unusable folder is found before the work, not after
     design = design.copy() if design is not None else Design()
     if boundary is not None:
         if boundary not in ("aligned", "trimmed"):
@@ -188,16 +213,17 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
     paths = {}
     step_error = None
     if out is not None:
-        os.makedirs(out, exist_ok=True)
+        _locks.enter_context(out_lock(out))  # two runs into one folder write one after the other
         paths = {name: os.path.join(out, f"{name}.{ext}") for name, ext in
                  (("design", "json"), ("layout", "json"), ("report", "json"), ("preview", "png"))}
+        _keep_backup(design_path, paths["design"])
         ds.design.save(paths["design"])
-        with open(paths["layout"], "w", encoding="utf-8") as f:
-            json.dump(layout, f)
+        write_layout(layout, paths["layout"])
         if preview:
             say("rendering preview.png")
             from .preview import render_design
-            render_design(paths["preview"], ds, layout, regions=details)
+            with atomic_path(paths["preview"]) as tmp:   # a full disk leaves no truncated picture
+                render_design(tmp, ds, layout, regions=details)
             lap("preview")
         else:
             del paths["preview"]
@@ -213,7 +239,8 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
                     say("rendering deviation.png")
                     from .preview import render_deviation
                     paths["deviation"] = os.path.join(out, "deviation.png")
-                    render_deviation(paths["deviation"], ds, report["fit"], details=details)
+                    with atomic_path(paths["deviation"]) as tmp:
+                        render_deviation(tmp, ds, report["fit"], details=details)
             except native.InputError as exc:
                 # The design and its layout are still worth having: report.json says why
                 # there is no STEP, and the error names the folder.
@@ -227,9 +254,8 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
     report["timings_ms"] = {k: round(float(v), 1) for k, v in timings.items()}
     report["peak_memory_mb"] = peak_memory_mb()
     if out is not None:
-        with open(paths["report"], "w", encoding="utf-8") as f:
-            json.dump(report, f, indent=2)
-            f.write("\n")
+        write_atomic(paths["report"], json.dumps(report, indent=2) + "\n")
+    _locks.close()
     if step_error is not None:
         raise step_error
     say(f"{report['strips']} strips ({given} given), {report['patches']} patches, "

@@ -26,7 +26,6 @@ Vertices carry "defects" (valence2, high_valence) and edges "defects" (overlappi
 patches' kinds are non_quad, overlapping_edges (a side overlaps), creased, degenerate.
 """
 import json
-import os
 
 from ._native import native
 
@@ -134,12 +133,9 @@ def compute_layout(design_session):
 
 
 def write_layout(result, path):
-    """Write layout.json atomically (a reader never sees half a file)."""
-    tmp = path + ".tmp"
-    with open(tmp, "w", encoding="utf-8") as f:
-        json.dump(result, f)
-    os.replace(tmp, path)
-    return path
+    """Write layout.json atomically (files.write_atomic: a reader never sees half a file)."""
+    from .files import write_atomic
+    return write_atomic(path, json.dumps(result))
 
 
 def format_summary(result):

@@ -17,6 +17,7 @@ Options: k=4, max_turn_deg=30, alpha=1.0, beta=0.25, boundary="aligned" |
 are shared between both cores). Queries release the GIL, and a newer query
 cancels an older one still running (it raises Cancelled).
 """
+import math
 import time
 
 from ._native import native
@@ -63,6 +64,9 @@ class LoopSession:
 
     def loops(self, anchors, alternatives=1, open_curves=True):
         """Up to `alternatives` distinct loops through the anchors, cheapest first, as dicts."""
+        if isinstance(alternatives, bool) or not isinstance(alternatives, int) or alternatives < 1:
+            raise native.InputError(f"the number of alternatives must be a whole number, 1 or more, "
+                                    f"got {alternatives!r}")
         return [self.describe(loop) for loop in self.native.loops([list(a) for a in anchors], alternatives,
                                                                    open_curves)]
 
@@ -96,6 +100,8 @@ def parse_anchor(text):
         raise native.InputError(f"cannot read anchor '{text}': expected X,Y,Z or X,Y,Z,DX,DY,DZ") from None
     if len(values) not in (3, 6):
         raise native.InputError(f"cannot read anchor '{text}': expected X,Y,Z or X,Y,Z,DX,DY,DZ")
+    if not all(math.isfinite(x) for x in values):   # the native side also bounds its distance
+        raise native.InputError(f"cannot read anchor '{text}': a coordinate is NaN or infinite")
     return values
 
 

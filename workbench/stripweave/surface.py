@@ -37,7 +37,11 @@ def make_options(**options):
         if name.startswith("_") or not hasattr(opts, name):
             valid = sorted(n for n in dir(opts) if not n.startswith("_"))
             raise TypeError(f"unknown surface option '{name}' (valid: {', '.join(valid)})")
-        setattr(opts, name, value)
+        try:
+            setattr(opts, name, value)
+        except TypeError:
+            raise InputError(f"surface option {name} must be a {type(getattr(opts, name)).__name__}, "
+                             f"got {value!r}") from None
     return opts
 
 
@@ -58,8 +62,23 @@ def from_shape(shape, progress=None, **options):
 def from_mesh(vertices, triangles, progress=None, **options):
     """Build the surface model from (N,3) vertex and (M,3) triangle arrays."""
     v = np.ascontiguousarray(vertices, dtype=np.float64)
-    t = np.ascontiguousarray(triangles, dtype=np.int32)
-    return native.from_arrays(v, t, make_options(**options), progress)
+    return native.from_arrays(v, index_array(triangles), make_options(**options), progress)
+
+
+def index_array(triangles):
+    """Triangle corners as int64 (the native side checks their range): a float array
+    whose values are not whole numbers is refused, not truncated (1.5 is not vertex 1)."""
+    t = np.asarray(triangles)
+    if t.dtype.kind == "f":
+        whole = np.isfinite(t) & (t == np.round(t))
+        if not whole.all():
+            i = np.argwhere(~whole)[0]
+            raise InputError(f"triangle {i[0]} has the corner {t[tuple(i)]!r}: vertex indices are whole numbers")
+    elif t.dtype.kind not in "iub":
+        raise InputError(f"triangles must be an (M, 3) array of vertex indices, got {t.dtype} values")
+    if t.dtype.kind == "u" and t.size and t.max() > np.iinfo(np.int64).max:
+        raise InputError(f"a triangle refers to vertex {t.max()}, beyond any mesh")
+    return np.ascontiguousarray(t, dtype=np.int64)
 
 
 def mesh_arrays_of(mesh):

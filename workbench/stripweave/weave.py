@@ -46,7 +46,8 @@ degrees, and such crossings are patch corners 45 degrees off; 60 measured: rocke
 against 21.0 degrees, ec_soapbox-A 16.1 against 16.6, spot 27.9 either way, bumpy-cube 16.5
 against 15.3, where it stopped at fewer patches). It stops at
 the deviation or patch target (no candidate that would pass refine_patches is taken), the
-work budget (which never stops work on red regions), or the strip limit.
+work budget (past which only red regions are worked on, up to red_reserve budgets), or the
+strip limit.
 
 The work budget counts what weaving does, not how long it takes, so the same input gives
 the same design on any machine: a loop query is half a unit plus its own work count
@@ -94,6 +95,9 @@ class WeaveOptions:
     seed: int = 0                   # which seed point to try first (varies the result, deterministically)
     budget: float = 200.0           # work units (module doc); past it, only red regions are worked on
     time_limit_s: float = 90.0      # wall-clock safety net, same effect (inf: none)
+    red_reserve: float = 4.0        # red regions may spend this many budgets (and time limits) in all, then
+                                    # weaving stops with them left: a run never loops forever (a model on
+                                    # which no loop ever makes a region a disc looped until killed)
     band: float = 0.03              # refinement's compatibility_band (empty designs), in bbox diagonals (0: the paper's)
     refine_angle_deg: float = 60.0  # ... and its compatibility angle (empty designs; 45: the paper's)
     colours: tuple = COLOURS        # the region colours that get strips (red always does)
@@ -120,6 +124,11 @@ class WeaveOptions:
             raise native.InputError("seeds per region and alternatives must be at least 1")
         if not self.budget >= 0:
             raise native.InputError(f"the work budget must be 0 or more, got {self.budget}")
+        if not self.time_limit_s > 0:
+            raise native.InputError(f"the time limit must be positive (inf: none), got {self.time_limit_s}")
+        if not self.red_reserve >= 1 or not math.isfinite(self.red_reserve):
+            raise native.InputError(f"the red reserve must be a finite number of budgets, 1 or more, "
+                                    f"got {self.red_reserve}")
         if not self.band >= 0 or not 0 <= self.colour_share <= 1 or self.query_polls < 0:
             raise native.InputError("band and query polls must be 0 or more, the colour share within [0, 1]")
         unknown = set(self.colours) - set(COLOURS)
@@ -245,6 +254,11 @@ class _Weaver:
     def out_of_work(self, elapsed):
         """Whether the budget (deterministic) or the safety net (wall clock) is used up."""
         return self.work >= self.options.budget or elapsed() > self.options.time_limit_s
+
+    def out_of_red_work(self, elapsed):
+        """Whether even red regions must stop: red_reserve budgets (or time limits) spent."""
+        reserve = self.options.red_reserve
+        return self.work >= reserve * self.options.budget or elapsed() > reserve * self.options.time_limit_s
 
     def why_out(self, elapsed):
         return "work budget" if self.work >= self.options.budget else "time limit (safety net)"
@@ -663,6 +677,9 @@ def _weave(w, ds, options):
         seeds = seeds_in_order(a, options, skip)
         if valid and w.out_of_work(elapsed):
             result.stopped = w.why_out(elapsed)
+            break
+        if not valid and w.out_of_red_work(elapsed):
+            result.stopped = f"{w.why_out(elapsed)}, {options.red_reserve:g} times over (red regions remain)"
             break
         if valid and a["crossings"] and options.refine and w.work >= options.colour_share * options.budget:
             # The rest of the budget goes to refinement, which splits the worst patches: on

@@ -1,13 +1,16 @@
-// Reading and writing triangle meshes through CGAL's stream I/O.
+// Reading and writing triangle meshes: dispatch by extension.
 //
-// CGAL parses the four formats; this file adds what a CAD user needs around
-// it: a precise message for every way a file can be unusable (CGAL only says
-// "false"), index validation (CGAL's OBJ and PLY readers let out-of-range
-// corners through), fan triangulation of polygons, and STL kept as the
-// unwelded soup stored in the file.
+// STL, OBJ and OFF are read by our strict readers (io/mesh_readers.h: CGAL's
+// read "f 1.5 2 3" as "f 1 2 3", allocated what a lying count announced and
+// read a FIFO forever); PLY by CGAL, with a precise message for every way a
+// file can be unusable (CGAL only says "false"), index validation and ear
+// clipping of polygons added here. Writing is CGAL's for all four.
 #include "stripweave/cgal/mesh_io.h"
 
 #include "stripweave/core/error.h"
+#include "stripweave/io/mesh_readers.h"
+#include "stripweave/io/mesh_text.h"
+#include "stripweave/io/polygon_triangulation.h"
 
 // Same as every CGAL translation unit of the library: class templates such as
 // Default_diagonalize_traits change with this flag, so it must not differ
@@ -16,7 +19,7 @@
 // extension ourselves, and that header also pulls in the GOCAD and VTK readers.
 #include <CGAL/IO/OBJ.h>
 #include <CGAL/IO/OFF.h>
-#include <CGAL/IO/PLY.h>
+#include <CGAL/IO/PLY.h>  // reading: PLY only; writing: all four
 #include <CGAL/IO/STL.h>
 #include <CGAL/Simple_cartesian.h>
 
@@ -84,62 +87,60 @@ void check_readable(const std::string& path) {
   const fs::file_status st = fs::status(path, ec);
   if (!fs::exists(st)) throw_read(path, "file does not exist");
   if (fs::is_directory(st)) throw_read(path, "it is a directory");
+  if (!fs::is_regular_file(st)) throw_read(path, "it is not a regular file (a device, pipe or socket)");
   std::ifstream probe(path, std::ios::binary);
   if (!probe) throw_read(path, std::string("cannot open it (") + std::strerror(errno) + ")");
   const auto size = fs::file_size(path, ec);
   if (!ec && size == 0) throw_read(path, "file is empty");
 }
 
-// A soup with no triangle is not always a broken file (an ASCII STL may
-// hold an empty solid, a binary one may state zero facets). Tell the two apart
-// so the message does not call a well-formed empty file invalid.
-bool stl_header_is_well_formed(const std::string& path) {
+bool read_ply_soup(const std::string& path, std::vector<Point>& points, std::vector<Polygon>& polygons) {
   std::ifstream in(path, std::ios::binary);
-  std::string word;
-  if (in >> word && word == "solid") return true;
-  in.clear();
-  in.seekg(0, std::ios::end);
-  return static_cast<long long>(in.tellg()) >= 84;  // 80-byte header + facet count
-}
-
-bool read_soup(const std::string& path, Format format, std::vector<Point>& points,
-               std::vector<Polygon>& polygons) {
-  const auto quiet = CGAL::parameters::verbose(false);
-  // Binary open mode for every format: STL and PLY may be binary, and on
-  // POSIX the text mode makes no difference for the others.
-  std::ifstream in(path, std::ios::binary);
-  switch (format) {
-    case Format::kStl:
-      CGAL::IO::set_mode(in, CGAL::IO::BINARY);
-      return CGAL::IO::read_STL(in, points, polygons, quiet);
-    case Format::kObj:
-      return CGAL::IO::read_OBJ(in, points, polygons, quiet);
-    case Format::kOff:
-      return CGAL::IO::read_OFF(in, points, polygons, quiet);
-    case Format::kPly:
-      // The stream overload of read_PLY defaults to verbose = true.
-      CGAL::IO::set_mode(in, CGAL::IO::BINARY);
-      return CGAL::IO::read_PLY(in, points, polygons, quiet);
-    default:
-      return false;
-  }
+  CGAL::IO::set_mode(in, CGAL::IO::BINARY);
+  // The stream overload of read_PLY defaults to verbose = true.
+  return CGAL::IO::read_PLY(in, points, polygons, CGAL::parameters::verbose(false));
 }
 
 }  // namespace
 
 bool is_mesh_file(const std::string& path) { return format_of(path) != Format::kUnknown; }
 
-TriangleMesh read_mesh_file(const std::string& path) {
-  const Format format = format_of(path);
-  if (format == Format::kUnknown) throw_unknown_format(path, "read");
-  check_readable(path);
+namespace {
 
-  const std::string invalid = std::string("not a valid ") + format_name(format) + " file";
+// A PLY header's element counts against the file's size (every element takes
+// at least a byte): CGAL would otherwise try to read what a lying count
+// announces, and says only "not a valid PLY file".
+void check_ply_header(const std::string& path) {
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  std::ifstream in(path, std::ios::binary);
+  std::string head(std::min<std::uintmax_t>(size, 1 << 16), '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  const std::size_t end = head.find("end_header");
+  if (head.compare(0, 3, "ply") != 0 || end == std::string::npos)
+    throw_read(path, "not a valid PLY file (no 'ply' ... 'end_header' header in its first 64 KB)");
+  head.resize(end);  // MeshText views the string: it must outlive the text
+  MeshText text(path, head);
+  while (text.next_line()) {
+    if (text.tokens()[0] != "element") continue;
+    const long long count = text.integer(2, "the element count");
+    if (count < 0 || static_cast<std::uintmax_t>(count) > size)
+      text.fail("the header announces " + std::to_string(count) + " " + std::string(text.tokens()[1]) +
+                " elements, more than a file of " + std::to_string(size) + " bytes can hold");
+  }
+}
+
+// PLY through CGAL (binary and ASCII, many property layouts), checked here.
+TriangleMesh read_ply(const std::string& path) {
+  check_readable(path);
+  check_ply_header(path);
+  const std::string invalid = "not a valid PLY file";
   std::vector<Point> points;
   std::vector<Polygon> polygons;
   bool ok = false;
   try {
-    ok = read_soup(path, format, points, polygons);
+    ok = read_ply_soup(path, points, polygons);
   } catch (const std::bad_alloc&) {
     // A corrupt header can announce billions of elements.
     throw_read(path, invalid + " (its element counts are impossibly large)");
@@ -148,56 +149,45 @@ TriangleMesh read_mesh_file(const std::string& path) {
     throw_read(path, invalid + " (" + e.what() + ")");
   }
   if (!ok) throw_read(path, invalid);
-
-  // CGAL's readers check indices loosely or not at all: a corner one past the
-  // last vertex passes the OBJ reader and nothing checks PLY indices.
+  // Nothing in CGAL checks PLY indices.
   const std::size_t n = points.size();
-  for (std::size_t f = 0; f < polygons.size(); ++f) {
-    for (std::size_t v : polygons[f]) {
-      if (v >= n) {
+  for (std::size_t f = 0; f < polygons.size(); ++f)
+    for (std::size_t v : polygons[f])
+      if (v >= n)
         throw_read(path, invalid + ": face " + std::to_string(f + 1) + " refers to vertex " +
                              std::to_string(static_cast<long long>(v) + 1) + " but the file holds " +
                              std::to_string(n) + " vertices");
-      }
-    }
-  }
-  for (std::size_t i = 0; i < n; ++i) {
-    const Point& p = points[i];
-    if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.z())) {
-      throw_read(path, invalid + ": vertex " + std::to_string(i + 1) + " has a non-finite coordinate");
-    }
-  }
-
   TriangleMesh mesh;
-  if (format == Format::kStl) {
-    // CGAL's STL reader merges bit-identical corners. Undo it: the contract is
-    // the soup as stored, and welding (with its tolerance and its report) is
-    // sanitize_mesh's job, not the reader's.
-    mesh.positions.reserve(3 * polygons.size());
-    mesh.triangles.reserve(polygons.size());
-    for (const Polygon& f : polygons) {
-      if (f.size() != 3) continue;  // the STL reader yields triangles only
-      const Index base = static_cast<Index>(mesh.positions.size());
-      for (std::size_t v : f) mesh.positions.emplace_back(points[v].x(), points[v].y(), points[v].z());
-      mesh.triangles.push_back({base, base + 1, base + 2});
-    }
-  } else {
-    mesh.positions.reserve(n);
-    for (const Point& p : points) mesh.positions.emplace_back(p.x(), p.y(), p.z());
-    mesh.triangles.reserve(polygons.size());
-    for (const Polygon& f : polygons) {
-      // Fan from the first corner: exact for the convex quads and n-gons CAD
-      // exporters write; faces with fewer than three corners carry no area.
-      for (std::size_t k = 1; k + 1 < f.size(); ++k) {
-        mesh.triangles.push_back({static_cast<Index>(f[0]), static_cast<Index>(f[k]), static_cast<Index>(f[k + 1])});
-      }
-    }
+  mesh.positions.reserve(n);
+  for (const Point& p : points) mesh.positions.emplace_back(p.x(), p.y(), p.z());
+  for (const Polygon& f : polygons) {
+    std::vector<Index> corners(f.begin(), f.end());
+    if (corners.size() > kMaxPolygonCorners || !triangulate_polygon(mesh.positions, corners, mesh.triangles))
+      throw_read(path, invalid + ": a face of " + std::to_string(f.size()) + " corners is too large or crosses itself");
   }
+  return mesh;
+}
 
-  if (mesh.triangles.empty()) {
-    if (format == Format::kStl && !stl_header_is_well_formed(path)) throw_read(path, invalid);
-    throw_read(path, "file holds no triangles");
+}  // namespace
+
+TriangleMesh read_mesh_file(const std::string& path) {
+  const Format format = format_of(path);
+  if (format == Format::kUnknown) throw_unknown_format(path, "read");
+  TriangleMesh mesh;
+  if (format == Format::kPly) {
+    mesh = read_ply(path);
+  } else {
+    // STL, OBJ and OFF: our strict readers (io/mesh_readers.h) of the whole
+    // file, which is never a device or a pipe.
+    const std::string bytes = read_regular_file(path);
+    mesh = format == Format::kStl ? read_stl(path, bytes) : format == Format::kObj ? read_obj(path, bytes)
+                                                                                    : read_off(path, bytes);
   }
+  for (std::size_t i = 0; i < mesh.positions.size(); ++i)
+    if (!mesh.positions[i].allFinite())
+      throw_read(path, std::string("not a valid ") + format_name(format) + " file: vertex " + std::to_string(i + 1) +
+                           " has a non-finite coordinate");
+  if (mesh.triangles.empty()) throw_read(path, "file holds no triangles");
   return mesh;
 }
 

@@ -1,5 +1,7 @@
 #include "stripweave/cgal/surface_locator.h"
 
+#include "stripweave/core/error.h"
+
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 #include <CGAL/AABB_triangle_primitive.h>
@@ -34,13 +36,27 @@ struct SurfaceLocator::Impl {
 SurfaceLocator::SurfaceLocator(const TriangleMesh& mesh) : impl_(std::make_unique<Impl>(mesh)) {}
 SurfaceLocator::~SurfaceLocator() = default;
 
+namespace {
+
+// The exact fallback of the filtered kernel turns a double into a GMP
+// rational, which raises SIGFPE on an infinity: a point whose squared
+// distances overflow must never reach the tree.
+void check_query(const Vec3& p) {
+  if (!(p.cwiseAbs().maxCoeff() <= kMaxQueryCoordinate))
+    throw InputError("a query point is not finite or is too far from the surface to locate");
+}
+
+}  // namespace
+
 SurfacePoint3 SurfaceLocator::closest(const Vec3& p) const {
+  check_query(p);
   const auto [q, primitive] = impl_->tree.closest_point_and_primitive(to_point(p));
   return answer(p, Vec3(q.x(), q.y(), q.z()), static_cast<Index>(primitive - impl_->triangles.cbegin()));
 }
 
 SurfacePoint3 SurfaceLocator::closest(const Vec3& p, const SurfacePoint3& hint) const {
   if (hint.triangle == kInvalid) return closest(p);
+  check_query(p);
   const auto [q, primitive] =
       impl_->tree.closest_point_and_primitive(to_point(p), {to_point(hint.point), impl_->triangles.cbegin() + hint.triangle});
   return answer(p, Vec3(q.x(), q.y(), q.z()), static_cast<Index>(primitive - impl_->triangles.cbegin()));

@@ -9,6 +9,8 @@
 //                 (much faster for queries in spatial order: the hint bounds
 //                 the search instead of a nearest-neighbour lookup; the
 //                 answer is the same nearest point, up to ties)
+//   InputError for a point with a coordinate not finite or beyond
+//   kMaxQueryCoordinate (the mesh's own units): farther points overflow.
 #pragma once
 
 #include "stripweave/surface/triangle_mesh.h"
@@ -23,6 +25,8 @@ struct SurfacePoint3 {
   Vec3 barycentric = Vec3::Zero();
   double distance = 0;
 };
+
+constexpr double kMaxQueryCoordinate = 1e100;
 
 class SurfaceLocator {
  public:

@@ -143,7 +143,10 @@ static Path search_two(const SearchContext& ctx, SearchWorkspace& fw, SearchWork
     if ((++self.settled & kCancelPollMask) == 0 && ctx.check_cancel) ctx.check_cancel();
     for (Index a = g.arc_offsets[n]; a < g.arc_offsets[n + 1]; ++a) {
       const Index m = g.arc_head[a];
-      if (ctx.is_disabled(m)) continue;
+      // The backward search's node m stands for reverse(m) on the path: that
+      // is the node a mask must keep out (checking m itself was right only for
+      // masks closed under reverse; an asymmetric one let disabled nodes in).
+      if (ctx.is_disabled(forward ? m : g.reverse[m])) continue;
       const double dm = key + g.arc_weight[a];
       const double dr = other.dist(g.reverse[m]);
       if (dr < kUnreachable && dm + dr < mu) {

@@ -91,6 +91,8 @@ std::shared_ptr<BrepSource> BrepSource::from_file(const std::string& path) {
   namespace fs = std::filesystem;
   if (!fs::exists(path)) throw InputError("cannot read '" + path + "': the file does not exist");
   if (fs::is_directory(path)) throw InputError("cannot read '" + path + "': it is a directory");
+  if (!fs::is_regular_file(path))  // a FIFO or a device is read forever
+    throw InputError("cannot read '" + path + "': it is not a regular file (a device, pipe or socket)");
   if (fs::file_size(path) == 0) throw InputError("cannot read '" + path + "': the file is empty");
   const std::string ext = lower_extension(path);
   TopoDS_Shape shape;

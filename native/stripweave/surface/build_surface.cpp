@@ -14,6 +14,7 @@
 #include <cmath>
 #include <map>
 #include <set>
+#include <sstream>
 
 namespace stripweave {
 
@@ -37,12 +38,57 @@ double edge_length_for(double area, Index count) {
   return 1.1 * std::sqrt(4.0 * area / (std::sqrt(3.0) * count));
 }
 
+// Coordinates beyond this (model units) are no model's: every later product
+// of a few of them must stay finite, the exact predicates' too.
+constexpr double kMaxCoordinate = 1e100;
+
 Similarity normalizing_similarity(const BoundingBox& box) {
   Similarity s;
   s.center = box.center();
   s.scale = box.diagonal();
+  const double extent = std::max(box.min.cwiseAbs().maxCoeff(), box.max.cwiseAbs().maxCoeff());
+  if (!(extent <= kMaxCoordinate) || !std::isfinite(s.scale)) {
+    std::ostringstream msg;
+    msg << "the model's coordinates reach " << extent << " (at most " << kMaxCoordinate
+        << "): its bounding-box diagonal is not a finite size";
+    throw InputError(msg.str());
+  }
   if (!(s.scale > 0)) throw InputError("the model has zero size (all its points coincide)");
   return s;
+}
+
+// Every number of the options, where it enters: a NaN feature angle dropped
+// every crease, a negative target meant "keep the tessellation", a zero
+// target on a 2M-triangle mesh ran for minutes.
+void check_options(const SurfaceOptions& o) {
+  auto fail = [](const std::string& what, double value) {
+    std::ostringstream msg;
+    msg << what << ", got " << value;
+    throw InputError(msg.str());
+  };
+  if (!(o.feature_angle_deg > 0 && o.feature_angle_deg < 180))
+    fail("the feature angle must be within (0, 180) degrees", o.feature_angle_deg);
+  if (o.target_triangles < 0 || o.target_triangles > kMaxSolverTriangles)
+    fail("the target triangle count must be 0 (keep the mesh) or up to " + std::to_string(kMaxSolverTriangles),
+         o.target_triangles);
+  if (!(o.deflection >= 0 && std::isfinite(o.deflection))) fail("the deflection must be 0 or a positive length", o.deflection);
+  if (!(o.relative_deflection > 0 && o.relative_deflection <= 1))
+    fail("the relative deflection must be within (0, 1]", o.relative_deflection);
+  if (!(o.angular_deflection_deg > 0 && o.angular_deflection_deg < 180))
+    fail("the angular deflection must be within (0, 180) degrees", o.angular_deflection_deg);
+  if (!(o.min_feature_length >= 0 && o.min_feature_length <= 1))
+    fail("the minimum feature length must be within [0, 1] (of the diagonal)", o.min_feature_length);
+  if (!(o.curvature_radius >= 0 && o.curvature_radius <= 1))
+    fail("the curvature radius must be within [0, 1] (of the diagonal; 0: automatic)", o.curvature_radius);
+  if (o.remesh_iterations < 0 || o.remesh_iterations > 100)
+    fail("the remeshing iterations must be within [0, 100]", o.remesh_iterations);
+}
+
+// A solver mesh kept as given (target 0) must fit the same bound as a target.
+void check_kept_size(Index triangles, const SurfaceOptions& o) {
+  if (o.target_triangles > 0 || triangles <= kMaxSolverTriangles) return;
+  throw InputError("the model has " + std::to_string(triangles) + " triangles; a target of 0 keeps them all, over the "
+                   "solver's limit of " + std::to_string(kMaxSolverTriangles) + ": give a target triangle count");
 }
 
 TriangleMesh transformed(const TriangleMesh& m, const Similarity& s) {
@@ -145,6 +191,7 @@ Index fill_tessellation_gaps(BrepTessellation& tess, const BrepSource& brep) {
 }  // namespace
 
 Surface surface_from_brep(std::shared_ptr<const BrepSource> brep, const SurfaceOptions& opt, Progress* progress) {
+  check_options(opt);
   Surface s;
   Stopwatch clock(s.timings);
   stage(progress, "tessellating", 0.0, 0.3);
@@ -158,6 +205,7 @@ Surface surface_from_brep(std::shared_ptr<const BrepSource> brep, const SurfaceO
     s.warnings.push_back("closed " + std::to_string(gaps) + " tiny gap(s) in OpenCASCADE's tessellation");
   clock.lap("tessellate");
   s.input_triangles = tess.mesh.num_triangles();
+  check_kept_size(s.input_triangles, opt);
   s.brep = brep;
   s.brep_faces = brep->num_faces();
   s.similarity = normalizing_similarity(bounding_box(tess.mesh.positions));
@@ -274,11 +322,13 @@ Surface surface_from_brep(std::shared_ptr<const BrepSource> brep, const SurfaceO
 }
 
 Surface surface_from_mesh(const TriangleMesh& raw, const SurfaceOptions& opt, Progress* progress) {
+  check_options(opt);
   Surface s;
   Stopwatch clock(s.timings);
   stage(progress, "checking the mesh", 0.0, 0.15);
   SanitizedMesh clean = sanitize_mesh(raw);
   s.input_triangles = clean.mesh.num_triangles();
+  check_kept_size(s.input_triangles, opt);
   clock.lap("sanitize");
   s.warnings = clean.warnings;
   s.source_mesh = std::make_shared<const TriangleMesh>(clean.mesh);
@@ -339,6 +389,7 @@ Surface surface_from_mesh(const TriangleMesh& raw, const SurfaceOptions& opt, Pr
 }
 
 Surface load_surface(const std::string& path, const SurfaceOptions& options, Progress* progress) {
+  check_options(options);  // before reading: a bad option is refused at once, not after a big file
   // Reading is timed here, so `bench` sees it as the first stage.
   StageTimings read_time;
   Stopwatch clock(read_time);

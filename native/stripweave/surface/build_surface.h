@@ -17,6 +17,11 @@
 
 namespace stripweave {
 
+// The solver mesh's size limit: a larger target, or a larger mesh kept with
+// target 0, is refused (time and memory of every later stage grow with it).
+constexpr Index kMaxSolverTriangles = 1000000;
+
+// Every option is checked on entry (InputError naming it and its value).
 struct SurfaceOptions {
   // B-rep tessellation: chordal deflection in model units; 0 means
   // relative_deflection times the bounding-box diagonal.

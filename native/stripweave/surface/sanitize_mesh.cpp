@@ -2,6 +2,7 @@
 
 #include "stripweave/core/error.h"
 #include "stripweave/surface/mesh_topology.h"
+#include "stripweave/surface/outlier_vertices.h"
 
 #include <algorithm>
 #include <cmath>
@@ -224,6 +225,17 @@ SanitizedMesh sanitize_mesh(const TriangleMesh& raw, double debris_fraction) {
   SanitizedMesh out;
   auto& warn = out.warnings;
   TriangleMesh m = weld_coincident(raw);
+  Index outlier_triangles = 0;
+  const Index outliers = remove_outlier_vertices(m, &outlier_triangles);
+  if (outliers) {
+    std::ostringstream msg;
+    msg << "removed " << plural(outliers, "outlier vertex", "outlier vertices") << " (every edge over " << kOutlierReach
+        << " times the radius of the rest) and " << plural(outlier_triangles, "triangle", "triangles");
+    warn.push_back(msg.str());
+  }
+  // Before the repairs, so no tolerance below is scaled by a point no triangle uses (one at
+  // 1e7 made every triangle of a 10 mm box "zero-area").
+  Index unreferenced = drop_unreferenced(m) - outliers;
 
   Index duplicates = 0;
   if (Index n = remove_repeated_and_duplicates(m, duplicates))
@@ -275,8 +287,9 @@ SanitizedMesh sanitize_mesh(const TriangleMesh& raw, double debris_fraction) {
   if (inward) warn.push_back("turned " + plural(inward, "inside-out component", "inside-out components") + " outward");
   if (nc - debris > 1)
     warn.push_back("the surface has " + std::to_string(nc - debris) + " separate components; each is kept");
-  if (Index n = drop_unreferenced(m))
-    warn.push_back("dropped " + plural(n, "unreferenced vertex", "unreferenced vertices"));
+  unreferenced += drop_unreferenced(m);
+  if (unreferenced)
+    warn.push_back("dropped " + plural(unreferenced, "unreferenced vertex", "unreferenced vertices"));
   out.mesh = std::move(m);
   return out;
 }

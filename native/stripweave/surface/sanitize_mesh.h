@@ -11,6 +11,7 @@
 //   - an edge shared by more than two triangles (non-manifold edge)
 //   - a non-orientable surface (Moebius-like)
 // Documented repairs (warnings):
+//   - outlier vertices (outlier_vertices.h) are removed with their triangles
 //   - coincident vertices are welded (STL stores none shared; not a warning)
 //   - triangles with a repeated vertex are removed
 //   - zero-area triangles are removed by flipping their longest edge
