@@ -121,10 +121,12 @@ def peak_memory_mb():
 
 def _export_step(ds, tolerance, path):
     """Fit NURBS patches to the design's primal layout and write them as STEP (the surfacing
-    stage). Returns the "fit" block of report.json (model units): design.md's max_deviation,
-    rms_deviation, max_seam_gap, max_seam_angle_deg, and per patch, tolerance, shell facts."""
+    stage). Returns the "fit" block of report.json (model units: design.md's two-sided
+    deviations, coverage, seam figures, per patch, shell facts) and, per surface triangle,
+    the fraction of its source area not within tolerance of a fitted patch (deviation.png)."""
     from .surfacing import fit_report, refit_design
-    return fit_report(refit_design(ds, tolerance=tolerance, step_path=path))
+    result = refit_design(ds, tolerance=tolerance, step_path=path)
+    return fit_report(result), result.get("triangle_uncovered")
 
 
 def _keep_backup(design_path, target):
@@ -234,13 +236,13 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
                 if not layout["valid"]:
                     raise native.InputError("cannot fit patches: the layout is not valid (red regions remain)")
                 tol = tolerance if tolerance is not None else 1e-3 * report["bbox_diagonal"]
-                report["fit"] = _export_step(ds, tol, paths["step"])
+                report["fit"], uncovered = _export_step(ds, tol, paths["step"])
                 if preview:
                     say("rendering deviation.png")
                     from .preview import render_deviation
                     paths["deviation"] = os.path.join(out, "deviation.png")
                     with atomic_path(paths["deviation"]) as tmp:
-                        render_deviation(tmp, ds, report["fit"], details=details)
+                        render_deviation(tmp, ds, report["fit"], details=details, uncovered=uncovered)
             except native.InputError as exc:
                 # The design and its layout are still worth having: report.json says why
                 # there is no STEP, and the error names the folder.

@@ -1,4 +1,5 @@
 #include "stripweave/occt/brep_source.h"
+#include "stripweave/occt/occt_messages.h"
 #include "stripweave/occt/brep_source_impl.h"
 
 #include "stripweave/core/error.h"
@@ -18,8 +19,6 @@
 #include <Geom_Surface.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <IGESControl_Reader.hxx>
-#include <Message.hxx>
-#include <Message_Messenger.hxx>
 #include <Poly_PolygonOnTriangulation.hxx>
 #include <Poly_Triangulation.hxx>
 #include <STEPControl_Reader.hxx>
@@ -72,22 +71,13 @@ struct DisjointSets {
   }
 };
 
-// OCCT keeps its messages on a global messenger; quiet it once so STEP
-// readers do not print to the user's terminal.
-void quiet_occt() {
-  static bool done = false;
-  if (done) return;
-  done = true;
-  Message::DefaultMessenger()->RemovePrinters(STANDARD_TYPE(Message_Printer));
-}
-
 }  // namespace
 
 BrepSource::BrepSource(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 BrepSource::~BrepSource() = default;
 
 std::shared_ptr<BrepSource> BrepSource::from_file(const std::string& path) {
-  quiet_occt();
+  quiet_occt_messages();
   namespace fs = std::filesystem;
   if (!fs::exists(path)) throw InputError("cannot read '" + path + "': the file does not exist");
   if (fs::is_directory(path)) throw InputError("cannot read '" + path + "': it is a directory");
@@ -123,7 +113,7 @@ std::shared_ptr<BrepSource> BrepSource::from_file(const std::string& path) {
 }
 
 std::shared_ptr<BrepSource> BrepSource::from_brep_string(const std::string& text) {
-  quiet_occt();
+  quiet_occt_messages();
   if (text.empty()) throw InputError("the BREP text is empty");
   TopoDS_Shape shape;
   try {

@@ -1,6 +1,7 @@
 #include "stripweave/surfacing/patch_shell.h"
 
 #include "stripweave/core/error.h"
+#include "stripweave/occt/occt_messages.h"
 
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakeSolid.hxx>
@@ -122,6 +123,7 @@ std::shared_ptr<const PatchShell> sew_patch_shell(const std::vector<BSplinePatch
 
 Index write_step(const PatchShell& shell, const std::string& path) {
   try {
+    quiet_occt_messages();  // the writer prints its statistics on stdout (a mesh source read none before)
     // The schema is read when the writer's model is made: set it first.
     STEPControl_Controller::Init();
     Interface_Static::SetCVal("write.step.schema", "AP214IS");
