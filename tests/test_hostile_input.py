@@ -13,7 +13,11 @@ import numpy as np
 import pytest
 
 import stripweave as sw
-from conftest import BUILD, FREECAD_LIB, REPO
+# Not `from conftest import ...`: with the whole tree collected, tests/gui/conftest.py may
+# hold the module name `conftest`.
+REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+BUILD = os.environ.get("STRIPWEAVE_BUILD", os.path.join(REPO, "build"))
+FREECAD_LIB = "/usr/lib/freecad-python3/lib"
 from models import box
 
 LAUNCHER = os.path.join(BUILD, "stripweave")

@@ -73,14 +73,32 @@ struct Checker {
     add(kind, patch_point(L.patches[p]), p, kInvalid);
   }
 
+  // Mean solver-mesh edge length (normalized units): the mesh's resolution.
+  double mean_edge() const {
+    double length = 0;
+    for (const EdgeKey& e : s.topology.edges) length += (s.mesh.positions[e[0]] - s.mesh.positions[e[1]]).norm();
+    return s.topology.num_edges() ? length / s.topology.num_edges() : 0.0;
+  }
+
+  // Four corners at primal vertices, and four sides none of which collapses
+  // to a point (shorter than one solver edge: the two corners it joins are
+  // then one corner). Corners may coincide where a side is a closed edge of
+  // positive length, as on a torus's one-patch layout (paper §2: a quad
+  // layout of one patch), whose fit is an ordinary four-sided patch.
+  bool four_corners(const PrimalPatch& patch, double min_side) const {
+    for (int k = 0; k < 4; ++k) {
+      if (patch.corners[k] == kInvalid || patch.edges[k] == kInvalid) return false;
+      if (L.edges[patch.edges[k]].length < min_side) return false;
+    }
+    return true;
+  }
+
   void check_patch_shapes() {
+    const double min_side = mean_edge();
     for (size_t p = 0; p < L.patches.size(); ++p) {
       const PrimalPatch& patch = L.patches[p];
-      std::vector<Index> corners(patch.corners.begin(), patch.corners.end());
-      std::sort(corners.begin(), corners.end());
-      const bool distinct =
-          corners.front() != kInvalid && std::adjacent_find(corners.begin(), corners.end()) == corners.end();
-      if (!patch.quad || !distinct) patch_kind(static_cast<Index>(p), DefectKind::NonQuad, out.non_quad_patches);
+      if (!patch.quad || !four_corners(patch, min_side))
+        patch_kind(static_cast<Index>(p), DefectKind::NonQuad, out.non_quad_patches);
       if (patch.creased()) patch_kind(static_cast<Index>(p), DefectKind::Creased, out.creased_patches);
     }
   }
@@ -217,16 +235,15 @@ struct Checker {
 
   void check_degenerate() {
     patch_inradii();
-    double area = 0, length = 0;
+    double area = 0;
     for (Index t = 0; t < s.mesh.num_triangles(); ++t) {
       const Tri& f = s.mesh.triangles[t];
       const auto& P = s.mesh.positions;
       area += 0.5 * (P[f[1]] - P[f[0]]).cross(P[f[2]] - P[f[0]]).norm();
     }
-    for (const EdgeKey& e : s.topology.edges) length += (s.mesh.positions[e[0]] - s.mesh.positions[e[1]]).norm();
-    const double mean_edge = s.topology.num_edges() ? length / s.topology.num_edges() : 0.0;
+    const double h = mean_edge();
     for (size_t p = 0; p < L.patches.size(); ++p)
-      if (L.patches[p].area < kDegenerateArea * area || out.patch_inradius[p] < kDegenerateRadius * mean_edge)
+      if (L.patches[p].area < kDegenerateArea * area || out.patch_inradius[p] < kDegenerateRadius * h)
         patch_kind(static_cast<Index>(p), DefectKind::Degenerate, out.degenerate_patches);
   }
 

@@ -9,9 +9,11 @@
 //           it is a crease (creases_of, creases.h; empty: computed here).
 //   Checks (normalized units inside, positions in the output in model units):
 //     non_quad      a patch whose boundary does not read as four sides
-//                   (PrimalPatch::quad false), or whose four corners are not
-//                   four distinct primal vertices (a torus's one-vertex
-//                   layout: no four-cornered surface patch fits it).
+//                   (PrimalPatch::quad false), or one of whose four sides
+//                   collapses to a point (shorter than one mean solver edge:
+//                   two of its corners are then one). Corners may coincide
+//                   where sides are closed edges of positive length: a
+//                   torus's one-patch layout is a quad layout (paper §2).
 //     overlapping_edges  two primal edge paths meet at a refined vertex that
 //                   is not a primal vertex both end at (a shared stretch, a
 //                   touch, an edge passing through another's end), or one
