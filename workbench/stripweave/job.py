@@ -112,10 +112,11 @@ def _corner_deviation_p95(layout):
 
 
 def peak_memory_mb():
-    """Peak resident memory of this process (plus its children's, if it had any), in MB:
-    what the weave needed at its heaviest (Linux reports ru_maxrss in kB)."""
+    """Peak resident memory of this process (or of its largest child, if that was larger), in
+    MB: what the weave needed at its heaviest (Linux reports ru_maxrss in kB). Both are
+    maxima, so they are not added."""
     import resource
-    kb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss + resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+    kb = max(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss, resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)
     return round(kb / 1024.0, 1)
 
 

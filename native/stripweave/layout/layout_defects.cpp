@@ -93,8 +93,9 @@ struct Checker {
     return true;
   }
 
-  void check_patch_shapes() {
-    const double min_side = mean_edge();
+  // h: the mean solver edge (mean_edge), the resolution both shape rules use.
+  void check_patch_shapes(double h) {
+    const double min_side = h;
     for (size_t p = 0; p < L.patches.size(); ++p) {
       const PrimalPatch& patch = L.patches[p];
       if (!patch.quad || !four_corners(patch, min_side))
@@ -233,7 +234,7 @@ struct Checker {
         for (Index v : A.mesh.triangles[t]) out.patch_inradius[p] = std::max(out.patch_inradius[p], dist[v]);
   }
 
-  void check_degenerate() {
+  void check_degenerate(double h) {
     patch_inradii();
     double area = 0;
     for (Index t = 0; t < s.mesh.num_triangles(); ++t) {
@@ -241,7 +242,6 @@ struct Checker {
       const auto& P = s.mesh.positions;
       area += 0.5 * (P[f[1]] - P[f[0]]).cross(P[f[2]] - P[f[0]]).norm();
     }
-    const double h = mean_edge();
     for (size_t p = 0; p < L.patches.size(); ++p)
       if (L.patches[p].area < kDegenerateArea * area || out.patch_inradius[p] < kDegenerateRadius * h)
         patch_kind(static_cast<Index>(p), DefectKind::Degenerate, out.degenerate_patches);
@@ -293,10 +293,11 @@ LayoutDefects find_layout_defects(const Surface& s, const LoopArrangement& A, co
   const std::vector<std::uint8_t> computed =
       crease.empty() && !L.vertices.empty() ? creases_of(s) : std::vector<std::uint8_t>();
   Checker c{s, A, L, crease.empty() ? computed : crease, out};
-  c.check_patch_shapes();
+  const double h = c.mean_edge();
+  c.check_patch_shapes(h);
   c.check_overlaps();
   if (!L.vertices.empty()) c.check_vertices();
-  if (!L.patches.empty()) c.check_degenerate();
+  if (!L.patches.empty()) c.check_degenerate(h);
   c.check_coverage();
   return out;
 }
