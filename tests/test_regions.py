@@ -221,7 +221,10 @@ def test_cube_three_belts_make_eight_triangular_regions(cube_session):
 
 
 def test_cube_singularities_one_per_region_or_orange(cube_session):
-    for anchors, colours in ((CUBE_BELTS, {"none"}), (CUBE_BELTS[:1], {"orange"})):
+    """Three belts: a corner and a singularity per region. One belt: two halves, each holding
+    four corners: four extrema of one kind (3 in excess, orange by itself), and four crease
+    junctions, which take precedence as the crease colour (issue 17)."""
+    for anchors, colours in ((CUBE_BELTS, {"none"}), (CUBE_BELTS[:1], {"crease"})):
         loops = [cube_session.native.loops([list(a)], 1, True)[0] for a in anchors]
         field = native.cross_field(cube_session.native, loops)
         vertices = [s["vertex"] for s in field["singularities"]]
@@ -232,6 +235,8 @@ def test_cube_singularities_one_per_region_or_orange(cube_session):
         assert {g["colour"] for g in r["regions"]} == colours
         if len(anchors) == 1:  # a belt halves the cube into two discs with four corners each
             assert [len(g["singularities"]) for g in r["regions"]] == [4, 4]
+            assert [g["excess_extrema"] for g in r["regions"]] == [3, 3]
+            assert {g["crease_problem"] for g in r["regions"]} == {"two crease nodes"}
             assert all(g["valence"] == 0 and g["total_curvature"] == pytest.approx(2 * math.pi, rel=1e-6)
                        for g in r["regions"])
 

@@ -109,8 +109,10 @@ def test_short_spurious_crease_chains_are_dropped():
     top = np.argmax(v[:, 2])
     v[top] *= 1.1  # a spike: its few edges exceed the dihedral threshold
     diag = np.linalg.norm(v.max(axis=0) - v.min(axis=0))
+    # Not even without the cluster length (min_feature_length 0): the crease rule of the surface
+    # stage (creases.h, issue 17) drops the star as well, so no stage sees it as sharp.
     with_noise = sw.from_mesh(v, t, target_triangles=0, min_feature_length=0.0).report()
-    assert with_noise["feature_curves"] >= 3
+    assert with_noise["feature_curves"] == 0 and with_noise["feature_edges"] == 0
     star_length = 6 * 0.1 * 5 * 2 / diag  # generous bound on the star's total length, normalized
     cleaned = sw.from_mesh(v, t, target_triangles=0, min_feature_length=star_length).report()
     assert cleaned["feature_curves"] == 0
@@ -118,10 +120,11 @@ def test_short_spurious_crease_chains_are_dropped():
 
 
 def test_layout_creases_need_a_long_curve_in_their_network():
-    """The layout follows a mesh's crease only in a network (curves joined at junctions) with
+    """A mesh's sharp edges are creases only in a network (curves joined at junctions) with
     a curve of at least a tenth of the diagonal: a box's edges (0.58) are creases; the rim of
-    a small square boss on its top (four curves of 0.06, joined) is sharp but no crease, as a
-    scan's networks of short noise ridges are not."""
+    a small square boss on its top (four curves of 0.06, joined) is not, as a scan's networks
+    of short noise ridges are not. One crease set (issue 17): what is no crease is smooth for
+    every stage, so its edges are not even sharp in the surface."""
     import FreeCAD
     import Part
     shape = box(10).fuse(Part.makeBox(1, 1, 0.3, FreeCAD.Vector(4.5, 4.5, 10))).removeSplitter()
@@ -132,11 +135,10 @@ def test_layout_creases_need_a_long_curve_in_their_network():
     assert not np.any(creases & ~sharp)
     mid = s.vertices[edges].mean(axis=1)
     on_boss = (mid[:, 2] > 10 - 1e-6) & (np.abs(mid[:, 0] - 5) < 0.6) & (np.abs(mid[:, 1] - 5) < 0.6)
-    assert np.count_nonzero(sharp & on_boss) >= 8        # the boss's rims are sharp edges...
-    assert not np.any(creases & on_boss)                # ...but not creases
-    boss_curves = [np.linalg.norm(np.diff(p, axis=0), axis=1).sum() / diag
-                   for p in s.feature_curve_points() if np.linalg.norm(np.mean(p, axis=0) - (5, 5, 10.15)) < 1]
-    assert boss_curves and max(boss_curves) < 0.1 and any(x >= 0.03 for x in boss_curves)
+    assert np.array_equal(creases, sharp)                # one crease set
+    assert not np.any(sharp & on_boss)                   # the boss's rims are smooth for every stage
+    assert not [p for p in s.feature_curve_points() if np.linalg.norm(np.mean(p, axis=0) - (5, 5, 10.15)) < 1]
+    assert diag > 0
     length = np.linalg.norm(s.vertices[edges[:, 0]] - s.vertices[edges[:, 1]], axis=1)
     assert length[creases].sum() == pytest.approx(12 * 10, rel=1e-6)   # the box's twelve edges
 

@@ -196,12 +196,15 @@ def test_report_agrees_with_layout(woven_cube):
     # design.md's keys and the README's documented extras, nothing else (fit comes only with --step)
     assert set(on_disk) == {"valid", "strips", "patches", "regions", "irregular_vertices", "corner_deviation_deg",
                             "bbox_diagonal", "timings_ms", "clean", "defects", "peak_memory_mb",
-                            "input_triangles", "solver_triangles"}
+                            "input_triangles", "solver_triangles", "crease_conformity", "crease_conforming"}
     assert on_disk["clean"] == layout["clean"] and on_disk["defects"] == layout["defects"]
+    assert on_disk["crease_conformity"] == layout["crease_conformity"] == pytest.approx(1.0, abs=1e-6)
+    assert on_disk["crease_conforming"] == layout["crease_conforming"]
     assert on_disk["peak_memory_mb"] > 0 and on_disk["solver_triangles"] > 0
     assert on_disk["valid"] == layout["valid"]
     assert on_disk["patches"] == len(layout["patches"])
-    colours = {c: sum(1 for r in layout["regions"] if r["colour"] == c) for c in ("red", "orange", "yellow", "none")}
+    colours = {c: sum(1 for r in layout["regions"] if r["colour"] == c)
+               for c in ("red", "orange", "yellow", "crease", "none")}
     assert on_disk["regions"] == colours
     assert on_disk["bbox_diagonal"] == pytest.approx(10 * np.sqrt(3), rel=1e-6)
     assert on_disk["strips"] == len(Design.load(out / "design.json").strips)
@@ -309,8 +312,7 @@ def test_refinement_lays_no_patch_over_a_crease(tmp_path):
     and the STEP missed the tolerance there (0.14 against 0.094). Now no patch of the
     woven layout is creased."""
     from stripweave.weave import _creased
-    assert _creased({"patches": [{"crease_length": 2.0, "creased": True},
-                                 {"crease_length": 0.005, "creased": False}]}) == 2.0
+    assert _creased({"crease_off_edges": 2.0, "patches": []}) == 2.0
     r = sw.weave(os.path.join(REPO, "examples", "handle.step"), out=str(tmp_path), preview=False)
     assert r["valid"] and r["patches"] >= 50
     with open(tmp_path / "layout.json", encoding="utf-8") as f:

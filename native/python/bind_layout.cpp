@@ -29,6 +29,10 @@
 //                  vertices "forced_valence" (the edges a part corner
 //                  there forces, 0 elsewhere), patches "inradius".
 //     problems   what keeps the embedding from a clean quad layout
+//     crease_conformity  the crease length on primal edges over the whole
+//                  crease length (1 without creases); crease_off_edges the
+//                  length off them (model units); crease_conforming: no
+//                  crease region and at most 1e-6 of the diagonal off them
 //     defects    the strict checks' counts: {"non_quad_patches",
 //                  "overlapping_edges", "valence2_vertices",
 //                  "high_valence_vertices", "creased_patches",
@@ -240,6 +244,9 @@ py::dict layout_dict(const Surface& s, const std::vector<Singularity>& singular,
   out["patches"] = patches;
   out["summary"] = summary;
   out["problems"] = L.problems;
+  out["crease_conformity"] = L.crease_conformity;
+  out["crease_off_edges"] = L.crease_off_edges * sim.scale;
+  out["crease_conforming"] = L.crease_conforming;
   out["defects"] = defect_counts(L.defects);
   out["defect_locations"] = defect_locations(L.defects);
   out["layout_ms"] = dl.layout_ms;

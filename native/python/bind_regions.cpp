@@ -86,6 +86,9 @@ py::dict regions_dict(const Surface& s, const std::vector<Singularity>& singular
     d["area"] = r.area * scale2;
     d["triangles"] = r.triangles;
     d["singularities"] = sing;
+    d["excess_extrema"] = r.excess_extrema;
+    d["crease_problem"] = crease_problem_name(r.crease_problem);
+    d["crease_excess"] = r.crease_excess;
     regions.append(d);
   }
 

@@ -16,8 +16,11 @@
 //                 "seeds": [[x,y,z], ...], "clearance": [...]}]
 //               seeds by layout/weave_seeds.h (the first is the centre);
 //               "crossing_anchors": [[x,y,z,dx,dy,dz], ...] across the arcs
-//               that have the region on both sides (weave_seeds.h)
-//     valid, crossings, arcs, colours {"red","orange","yellow","none"}
+//               that have the region on both sides (weave_seeds.h);
+//               "excess_extrema", "crease_problem", and for a crease region
+//               "crease_seed" [x,y,z] (crease_structure.h: where a loop
+//               across the crease would resolve it)
+//     valid, crossings, arcs, colours {"red","orange","yellow","crease","none"}
 //     uncovered {"found", "area", "largest_area", "surface_area", "point",
 //                "clearance"}: what no strip covers (the design's strips only)
 //     time_ms
@@ -98,7 +101,7 @@ void bind_weave(py::module_& m) {
         }
         py::list list;
         py::dict colours;
-        for (const char* c : {"red", "orange", "yellow", "none"}) colours[c] = 0;
+        for (const char* c : {"red", "orange", "yellow", "crease", "none"}) colours[c] = 0;
         for (size_t r = 0; r < regions.regions.size(); ++r) {
           const Region& g = regions.regions[r];
           py::dict x;
@@ -114,6 +117,13 @@ void bind_weave(py::module_& m) {
           std::vector<int> quarters;
           for (Index k : g.singularities) quarters.push_back(d.field().singularities[k].quarter_index);
           x["singularity_quarters"] = quarters;
+          x["excess_extrema"] = g.excess_extrema;
+          x["crease_problem"] = crease_problem_name(g.crease_problem);
+          x["crease_excess"] = g.crease_excess;
+          // Where a loop across the crease would resolve a crease region (crease_structure.h).
+          const Index split = regions.creases.regions[r].split_vertex;
+          if (g.crease_problem != CreaseProblem::None && split != kInvalid)
+            x["crease_seed"] = model_point(s, arrangement.mesh.positions[split]);
           py::list pts, clear;
           for (const SeedPoint& p : seeds[r]) {
             pts.append(model_point(s, p.point));

@@ -148,6 +148,7 @@ def cmd_layout(args):
         for r in result["regions"]:
             colours[r["colour"]] = colours.get(r["colour"], 0) + 1
         print(json.dumps({"valid": result["valid"], "clean": result["clean"], "defects": result["defects"],
+                          "crease_conformity": result["crease_conformity"],
                           "regions": colours, "summary": result["summary"],
                           "problems": result["problems"], "timings_ms": result["timings_ms"], "path": path}))
     else:
@@ -179,13 +180,14 @@ def cmd_weave(args):
     c = result["regions"]
     irregular = ", ".join(f"{n} of valence {v}" for v, n in result["irregular_vertices"].items()) or "none"
     print(f"{'valid' if result['valid'] else 'NOT valid'} layout: {result['strips']} strips, "
-          f"{result['patches']} patches; regions red {c['red']}, orange {c['orange']}, yellow {c['yellow']}, "
+          f"{result['patches']} patches; regions red {c['red']}, crease {c.get('crease', 0)}, orange {c['orange']}, "
+          f"yellow {c['yellow']}, "
           f"fine {c['none']}")
     print(f"irregular vertices: {irregular}; corner deviation mean "
           f"{result['corner_deviation_deg']['mean']:.1f} deg, max {result['corner_deviation_deg']['max']:.1f} deg")
     if "defects" in result:
         from .layout import format_defects
-        print(format_defects(result["clean"], result["defects"], result["defect_locations"]))
+        print(format_defects(result["clean"], result["defects"], result["defect_locations"], result=result))
     for entry in result["log"]:
         print(f"  strip {entry['strip'] + 1}: for the {entry['reason']}"
               f"{'' if entry['region'] < 0 else ' ' + str(entry['region'])} at "

@@ -79,7 +79,7 @@ def _layout_of(ds):
 
 def make_report(ds, layout, timings_ms):
     """report.json (design.md): the figures come from layout.json, so they always agree."""
-    colours = {"red": 0, "orange": 0, "yellow": 0, "none": 0}
+    colours = {"red": 0, "orange": 0, "yellow": 0, "crease": 0, "none": 0}
     for g in layout["regions"]:
         colours[g["colour"]] += 1
     summary = layout.get("summary", {})
@@ -89,6 +89,8 @@ def make_report(ds, layout, timings_ms):
     # The strict checks (layout.json's; a build without the layout stage has none: not clean).
     defects = {k: int(v) for k, v in layout.get("defects", {}).items()}
     return {"valid": bool(layout["valid"]), "clean": bool(layout.get("clean", False)), "defects": defects,
+            "crease_conformity": float(layout.get("crease_conformity", 0.0)),
+            "crease_conforming": bool(layout.get("crease_conforming", False)),
             "strips": len(ds.design.strips), "patches": len(layout["patches"]),
             "regions": colours, "irregular_vertices": irregular,
             "corner_deviation_deg": {"mean": float(deviation["mean"]), "max": float(deviation["max"]),

@@ -6,8 +6,9 @@
     write_layout(result, "out/layout.json")
 
 compute_layout returns, in model units:
-    regions    [{"valence", "disc", "colour" (none|red|orange|yellow), "total_curvature",
-                 "ideal_valence", "area", "singularities", ...}]
+    regions    [{"valence", "disc", "colour" (none|red|orange|yellow|crease), "total_curvature",
+                 "ideal_valence", "area", "singularities", "excess_extrema" (curvature extrema of
+                 one kind beyond the first), "crease_problem" (why a crease region is one), ...}]
     valid      no region is red (only then are there vertices, edges and patches)
     vertices   [{"position", "valence", "boundary", "placement", "clearance" (from the loops,
                  within its region), "inradius" (its region's largest clearance)}]
@@ -17,7 +18,10 @@ compute_layout returns, in model units:
     summary    {"patches", "irregular_vertices": {"3": n, ...}, "boundary_vertices": {...},
                 "corner_deviation_deg": {"mean", "max"}, "euler": {"V", "E", "F", "chi"}}
     problems   what keeps the embedding from a clean quad layout (empty when it is one)
-    clean      valid and without defects (and, in a later issue, crease-conforming)
+    clean      valid, crease-conforming and without defects
+    crease_conformity  crease length on primal edges / total crease length (1 without creases)
+    crease_conforming  no crease region, and at most 1e-6 of the diagonal of crease off the edges
+    crease_off_edges   crease length off the primal edges, model units
     defects    the strict checks' counts (native layout_defects.h), DEFECT_KEYS
     defect_locations  [{"kind", "position" (model units), "patch" | "vertex" | "edges" (the
                  touching pair) | "triangles" (of an uncovered piece), "text"}]
@@ -30,7 +34,7 @@ import json
 from ._native import native
 
 REGION_KEYS = ("valence", "disc", "colour", "total_curvature", "ideal_valence", "euler_characteristic",
-               "boundaries", "genus", "area")
+               "boundaries", "genus", "area", "excess_extrema", "crease_problem", "crease_excess")
 
 
 DEFECT_KEYS = ("non_quad_patches", "overlapping_edges", "valence2_vertices", "high_valence_vertices",
@@ -68,19 +72,30 @@ def _location_text(loc):
     return f"{what} at {_point(loc['position'])}"
 
 
-def _crease_conforming(raw):
-    """The crease-conformity part of "clean" (design.md), a later issue's: until the native
-    layout reports "crease_conforming", every layout counts as conforming."""
-    return bool(raw.get("crease_conforming", True))
+def _crease_words(result):
+    """What keeps a layout from being crease-conforming, in words (empty when it is)."""
+    if result is None or result.get("crease_conforming", True):
+        return []
+    regions = result.get("regions", [])
+    if isinstance(regions, dict):   # report.json's counts by colour
+        n, kinds = int(regions.get("crease", 0)), []
+    else:                           # layout.json's regions
+        crease = [r for r in regions if r.get("colour") == "crease"]
+        n, kinds = len(crease), sorted({r.get("crease_problem", "") for r in crease} - {"", "none"})
+    words = f"{n} crease region{'s' if n != 1 else ''}"
+    if kinds:
+        words += " (" + ", ".join(kinds) + ")"
+    return [f"not crease-conforming: {100 * result.get('crease_conformity', 0):.1f}% of the crease length "
+            f"on primal edges; {words}"]
 
 
-def format_defects(clean, defects, locations, first=3):
+def format_defects(clean, defects, locations, first=3, result=None):
     """'clean: ...', or 'NOT clean; defects:' and a line per kind, e.g. '  3 patches without 4
     corners (first at (..), ..)': counted in words, with the model-unit locations of the first
-    few."""
+    few, and (given the layout `result`) what keeps it from being crease-conforming."""
     if clean:
-        return "clean: no layout defects"
-    parts = []
+        return "clean: no layout defects, crease-conforming"
+    parts = _crease_words(result) if result is not None and result.get("valid") else []
     for key in DEFECT_KEYS:
         n = defects.get(key, 0)
         if not n:
@@ -119,7 +134,10 @@ def layout_json(raw):
         "patches": raw["patches"],
         "summary": raw["summary"],
         "problems": list(raw["problems"]),
-        "clean": bool(raw["valid"]) and not any(defects.values()) and _crease_conforming(raw),
+        "clean": bool(raw["valid"]) and not any(defects.values()) and bool(raw["crease_conforming"]),
+        "crease_conformity": float(raw["crease_conformity"]),
+        "crease_conforming": bool(raw["crease_conforming"]),
+        "crease_off_edges": float(raw["crease_off_edges"]),
         "defects": defects,
         "defect_locations": locations,
         "crossings": raw["crossings"],
@@ -147,7 +165,7 @@ def format_summary(result):
              + ", ".join(f"{n} {c}" for c, n in sorted(colours.items())) + ")"]
     if not result["valid"]:
         lines.append("layout: invalid (red regions are not discs: add strips that split them)")
-        lines.append(format_defects(result["clean"], result["defects"], result["defect_locations"]))
+        lines.append(format_defects(result["clean"], result["defects"], result["defect_locations"], result=result))
         return "\n".join(lines)
     s = result["summary"]
     irregular = ", ".join(f"{n} of valence {v}" for v, n in sorted(s["irregular_vertices"].items())) or "none"
@@ -157,7 +175,7 @@ def format_summary(result):
     lines.append(f"corner angles: deviate from 90 deg by {s['corner_deviation_deg']['mean']:.1f} deg on average, "
                  f"{s['corner_deviation_deg']['max']:.1f} at most")
     lines.append(f"Euler check: V - E + F = {e['V'] - e['E'] + e['F']} (surface: {e['chi']})")
-    lines.append(format_defects(result["clean"], result["defects"], result["defect_locations"]))
+    lines.append(format_defects(result["clean"], result["defects"], result["defect_locations"], result=result))
     for p in result["problems"]:
         lines.append(f"problem: {p}")
     t = result["timings_ms"]

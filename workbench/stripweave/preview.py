@@ -69,7 +69,7 @@ EDGE = np.array((0.04, 0.04, 0.06))
 MARK = np.array((0.92, 0.0, 0.78))     # defects: magenta, in no other role
 TINTS = {"red": (0.95, 0.25, 0.2), "orange": (1.0, 0.6, 0.15), "yellow": (0.98, 0.9, 0.25),
          "crease": (0.2, 0.7, 0.85)}
-REGION_MEANING = {"red": "not a disc", "orange": "2+ singularities", "yellow": "valence vs curvature",
+REGION_MEANING = {"red": "not a disc", "orange": "2+ extrema of one sign", "yellow": "valence vs curvature",
                   "crease": "blocks a crease"}
 # Strip hues: distinct, darkish, so stripes read on the light base.
 HUES = np.array([(0.12, 0.38, 0.75), (0.1, 0.55, 0.3), (0.6, 0.2, 0.6), (0.0, 0.5, 0.6), (0.45, 0.35, 0.1),

@@ -8,7 +8,8 @@
 The paper's tool (§4) is interactive: the user hovers, the system proposes the best
 strip through the cursor (§5), the region colours (§4.2) say where strips are still
 needed. Automatic weaving plays the user: it picks seed points in the order
-    red regions (not discs: no valid layout yet), then orange (several curvature extrema
+    red regions (not discs: no valid layout yet), then crease regions (they keep the layout
+    from following the part's creases, issue 17), then orange (several curvature extrema
     of one kind in one region: extra_extrema), then yellow (valence and curvature
     disagree), orange and yellow only where the region's vertex would have valence 2 or
     6 and more (extreme_only), then the largest area no strip covers,
@@ -79,7 +80,7 @@ from dataclasses import dataclass, field, replace
 
 from ._native import native
 
-COLOURS = ("red", "orange", "yellow")
+COLOURS = ("red", "crease", "orange", "yellow")
 # STRIPWEAVE_WEAVE_DEBUG=path: save each design before it is derived (to replay a crash).
 _DEBUG_DESIGN = os.environ.get("STRIPWEAVE_WEAVE_DEBUG")
 
@@ -148,16 +149,9 @@ class WeaveResult:
 
 def extra_extrema(region):
     """How many more curvature extrema of one kind an orange region holds than one vertex can
-    take: singularities of the same sign beyond the first (a lens around two cube corners: 1).
-    A pair of opposite signs (the +1/4, -1/4 dipoles noise leaves on a scan, next to each
-    other) is no extremum: splitting it only adds irregular vertices (measured: chasing every
-    orange region left scans with more irregular vertices and worse corners)."""
-    q = region.get("singularity_quarters")
-    if q is None:
-        return max(0, region["singularities"] - 1)
-    positive = sum(1 for x in q if x > 0)
-    negative = sum(1 for x in q if x < 0)
-    return max(0, positive - 1) + max(0, negative - 1)
+    take (the native assessment's excess_extrema, assessment.h: a lens around two cube
+    corners: 1; a +1/4, -1/4 pair: 0)."""
+    return int(region["excess_extrema"])
 
 
 def flaws(a):
@@ -189,7 +183,11 @@ def score(a):
     # then holes are joined by cuts between them (chi + 1): both count as progress.
     genus = sum(r["genus"] for r in red)
     badness = sum(max(1, abs(1 - r["euler_characteristic"])) for r in red)
-    return (genus, badness, colour_flaws(a))
+    # Then the crease regions (issue 17), by how far each is from carrying its creases
+    # (crease_excess: nodes, pieces and exits beyond one...), which every loop that
+    # separates two crease junctions lowers, where the count of crease regions may not.
+    crease = sum(r["crease_excess"] for r in a["regions"])
+    return (genus, badness, crease, colour_flaws(a))
 
 
 def seeds_in_order(a, options, skip):
@@ -198,13 +196,18 @@ def seeds_in_order(a, options, skip):
     out = []
     for colour in (c for c in COLOURS if c == "red" or c in options.colours):
         regions = [(i, r) for i, r in enumerate(a["regions"])
-                   if r["colour"] == colour and (colour != "orange" or extra_extrema(r) > 0)
-                   and (colour == "red" or not options.extreme_only or r["valence"] <= 2 or r["valence"] >= 6)]
+                   if r["colour"] == colour
+                   and (colour in ("red", "crease") or not options.extreme_only or r["valence"] <= 2
+                        or r["valence"] >= 6)]
         for i, r in sorted(regions, key=lambda x: (-x[1]["area"], x[0])):
             points = [p for p in r["seeds"] if _key(p) not in skip]
             if points:
                 k = options.seed % len(points)
                 points = points[k:] + points[:k]
+            if colour == "crease" and "crease_seed" in r and _key(r["crease_seed"]) not in skip:
+                # First the point whose loop would cross the crease between its two nodes (or
+                # exits), separating them (crease_structure.h).
+                points = [r["crease_seed"]] + points
             if colour == "red":
                 # After the centre: across each loop that leaves the region on both sides (the
                 # cut that completes a handle's meridian), then the other seed points.
@@ -371,10 +374,8 @@ def _assessment_of(layout):
     """What score() and flaws() read of weave_assessment (without seeds), from the regions of
     a layout: the same arrangement and singularities, computed once (a prediction built the
     arrangement twice, a fifth of its time)."""
-    regions = [{**r, "singularities": len(r["singularities"]),
-                "singularity_quarters": [round(4 * x["index"]) for x in r["singularities"]]}
-               for r in layout["regions"]]
-    colours = dict.fromkeys(("red", "orange", "yellow", "none"), 0)
+    regions = [{**r, "singularities": len(r["singularities"])} for r in layout["regions"]]
+    colours = dict.fromkeys(("red", "crease", "orange", "yellow", "none"), 0)
     for r in regions:
         colours[r["colour"]] += 1
     return {"regions": regions, "colours": colours, "valid": layout["valid"], "crossings": layout["crossings"]}
@@ -406,13 +407,13 @@ def _corner_deviations(p):
 
 
 def _creased(layout):
-    """How much crease lies inside the layout's patches (model units, patches the layout
-    marks "creased": more than 1% of the diagonal inside, layout.json). Refinement may not
-    raise it: a patch over a crease is one no smooth patch fits (the handle's refinement
-    laid one over its top rim, and its STEP missed the tolerance there), whatever its
-    corners. Counting such patches as 90 degrees off instead left a tube whose creases run
-    its whole length at one patch: every single strip still left each patch over a crease."""
-    return sum(p.get("crease_length", 0.0) for p in layout.get("patches", ()) if p.get("creased", False))
+    """How much crease lies off the layout's primal edges (model units, layout.json's
+    crease_off_edges, issue 17). Refinement may not raise it: a patch over a crease is one
+    no smooth patch fits (the handle's refinement laid one over its top rim, and its STEP
+    missed the tolerance there), whatever its corners. Counting such patches as 90 degrees
+    off instead left a tube whose creases run its whole length at one patch: every single
+    strip still left each patch over a crease."""
+    return float(layout["crease_off_edges"])
 
 
 def _at_length(points, t):
@@ -697,12 +698,12 @@ def _weave(w, ds, options):
             a = w.assess()
             continue
         if not seeds:
-            colours_left = sum(a["colours"][c] for c in ("orange", "yellow") if c in options.colours)
+            colours_left = sum(a["colours"][c] for c in ("crease", "orange", "yellow") if c in options.colours)
             result.stopped = "done" if valid and not colours_left else "no seed helps"
             break
         reason, region, colour, points = seeds[0]
         _say(options, f"strip {len(ds.design.strips) + 1}: {reason} {region} "
-                      f"(red {a['colours']['red']}, orange {a['colours']['orange']}, "
+                      f"(red {a['colours']['red']}, crease {a['colours']['crease']}, orange {a['colours']['orange']}, "
                       f"yellow {a['colours']['yellow']}, {elapsed():.1f} s)")
         added = None
         tried_real = False
@@ -721,7 +722,8 @@ def _weave(w, ds, options):
                     improves = s <= current   # coverage, without spoiling the colours
                     if not improves and a["crossings"] == 0 and s[:2] <= current[:2]:
                         improves = True       # no patch yet: any valid strip is progress
-                if not improves and colour in ("orange", "yellow") and s[:2] <= current[:2] and not tried_real:
+                if not improves and colour in ("crease", "orange", "yellow") and s[:2] <= current[:2] \
+                        and not tried_real:
                     # The prediction keeps the old singularities, which the new strip moves:
                     # give the best proposal one real try.
                     improves = tried_real = True
@@ -769,7 +771,8 @@ def _weave(w, ds, options):
     result.time_ms = elapsed() * 1000.0
     result.work, result.cancelled_queries = w.work, w.cancelled
     _say(options, f"{result.stopped}: {len(ds.design.strips)} strips ({user_strips} given, "
-                  f"{len(result.log)} added), red {a['colours']['red']}, orange {a['colours']['orange']}, "
+                  f"{len(result.log)} added), red {a['colours']['red']}, crease {a['colours']['crease']}, "
+                  f"orange {a['colours']['orange']}, "
                   f"yellow {a['colours']['yellow']}, work {w.work:g}, {elapsed():.1f} s"
                   + (f", {w.cancelled} loop queries cut by the timeout" if w.cancelled else ""))
     return result

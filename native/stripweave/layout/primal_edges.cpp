@@ -11,6 +11,10 @@
 // worst they share a first stretch, which cut_primal_patches reports), and
 // edges in different regions meet only at their own arc.
 //
+// An edge across an arc that a crease crosses is the crease chain through
+// the exit (crease_route), and keeps that route: so the crease network lies
+// on primal edges wherever the regions can carry it (issue 17).
+//
 // Costs: a refined edge costs its length, times kCheap on a sharp feature
 // or the open boundary (a primal edge whose corridor holds a crease follows
 // it, and edges of boundary regions run along the boundary between boundary
@@ -29,6 +33,50 @@ namespace {
 
 constexpr double kCheap = 0.4;
 constexpr double kOnLoop = 4.0;
+
+// The primal edge across arc k when a crease crosses it (crease_structure.h):
+// on each side, the crease path from the exit to the region's vertex, or the
+// shortest-path tree's path (`trace`, from a wedge back to its vertex) on a
+// side the crease does not enter. False (and no route) unless the exit is a
+// single point, both regions have vertices, and every side the crease enters
+// carries it to its vertex.
+template <class Trace>
+bool crease_route(const PrimalContext& ctx, const std::vector<Index>& vertex_wedge, Index k, const Trace& trace,
+                  std::vector<Index>& path, Index& crossing_at) {
+  const LoopArrangement& A = ctx.arrangement;
+  const Index x = ctx.regions.creases.arc_exit[k];
+  const Index L = ctx.regions.arc_left[k], R = ctx.regions.arc_right[k];
+  if (x == kInvalid || L == kInvalid || R == kInvalid) return false;
+  if (vertex_wedge[L] == kInvalid || vertex_wedge[R] == kInvalid) return false;
+  const LoopArc& arc = A.arcs[k];
+  const auto at = std::find(arc.vertices.begin(), arc.vertices.end(), x);
+  if (at == arc.vertices.end()) return false;
+  const auto [wl, wr] = ctx.arc_side_wedges(k, static_cast<size_t>(at - arc.vertices.begin()));
+  if (wl == kInvalid || wr == kInvalid) return false;
+  // The crease enters region r at x when one of its edges at x lies in r.
+  auto enters = [&](Index r) {
+    const MeshTopology& rt = A.topology;
+    for (const Index* n = rt.vertex_neighbours.begin(x); n != rt.vertex_neighbours.end(x); ++n) {
+      const Index e = rt.find_edge(x, *n);
+      if (ctx.edge_feature[e] && !A.on_loop(e) && ctx.regions.triangle_region[rt.edge_triangles[e][0]] == r)
+        return true;
+    }
+    return false;
+  };
+  auto half = [&](Index r, Index w) {  // from the region's vertex to x
+    const Index v = ctx.wedges.vertex[vertex_wedge[r]];
+    if (enters(r)) return crease_path_in_region(ctx, r, v, x);
+    std::vector<Index> p = trace(w);
+    std::reverse(p.begin(), p.end());
+    return p;
+  };
+  std::vector<Index> left = half(L, wl), right = half(R, wr);
+  if (left.empty() || right.empty() || left.back() != x || right.back() != x) return false;
+  path = std::move(left);
+  crossing_at = static_cast<Index>(path.size()) - 1;
+  path.insert(path.end(), right.rbegin() + 1, right.rend());
+  return true;
+}
 
 }  // namespace
 
@@ -85,6 +133,18 @@ std::vector<PrimalEdge> route_primal_edges(const PrimalContext& ctx, const std::
     cheapness[k] = length > 0 ? best / length : 1.0;
   }
 
+  // Edges across crease exits follow the crease and keep their route.
+  std::vector<std::uint8_t> pinned(na, 0);
+  for (Index k = 0; k < na; ++k) {
+    std::vector<Index> path;
+    Index crossing_at = 0;
+    if (!crease_route(ctx, vertex_wedge, k, trace, path, crossing_at)) continue;
+    guess[k] = std::move(path);
+    guess_crossing[k] = crossing_at;
+    cheapness[k] = 0;
+    pinned[k] = 1;
+  }
+
   // Untangle. The guesses of one region lie in one shortest-path tree, so
   // they never cross, but two of them may share a first stretch, and an
   // edge may run along a loop or the boundary where its neighbour across
@@ -113,7 +173,7 @@ std::vector<PrimalEdge> route_primal_edges(const PrimalContext& ctx, const std::
   std::vector<Index> p2(2 * static_cast<size_t>(nw), kInvalid);
   std::vector<Index> touched;
   for (Index k : order) {
-    if (guess[k].empty()) continue;
+    if (guess[k].empty() || pinned[k]) continue;
     bool shared = false;
     for (size_t i = 1; i + 1 < routed[k].size() && !shared; ++i) shared = use[routed[k][i]] > 1;
     // Its end vertices may not be passed through by others either.

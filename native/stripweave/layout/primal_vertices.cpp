@@ -25,6 +25,20 @@
 
 namespace stripweave {
 
+namespace {
+
+// The wedge of refined vertex v in region r (kInvalid if v is not in it).
+Index wedge_at(const PrimalContext& ctx, Index v, Index r) {
+  const LoopArrangement& A = ctx.arrangement;
+  for (const Index* t = A.topology.vertex_triangles.begin(v); t != A.topology.vertex_triangles.end(v); ++t) {
+    const Index w = ctx.wedges.of(*t, corner_of(A.mesh, *t, v));
+    if (ctx.wedge_region[w] == r) return w;
+  }
+  return kInvalid;
+}
+
+}  // namespace
+
 std::vector<PrimalVertex> place_primal_vertices(const PrimalContext& ctx, const std::vector<Singularity>& singularities,
                                                 std::vector<Index>& vertex_wedge) {
   const LoopArrangement& A = ctx.arrangement;
@@ -68,6 +82,10 @@ std::vector<PrimalVertex> place_primal_vertices(const PrimalContext& ctx, const 
     if (value > score[r][rule]) score[r][rule] = value, best[r][rule] = w;
   };
   const Index surface_vertices = ctx.surface.mesh.num_vertices();
+  // Per region its crease point farthest from the loops: where a crease
+  // region's vertex goes when no crease point is as centred as the rule asks.
+  std::vector<Index> crease_far(nr, kInvalid);
+  std::vector<double> crease_far_clearance(nr, -1.0);
   for (Index w = 0; w < nw; ++w) {
     const Index v = ctx.wedges.vertex[w];
     if (ctx.vertex_on_loop[v]) continue;  // a vertex on a loop would sit on its own dual edge
@@ -93,6 +111,7 @@ std::vector<PrimalVertex> place_primal_vertices(const PrimalContext& ctx, const 
     // rocker-arm's scan ridges took vertices at a fifth with corners of 46 to 132 degrees.
     if (on_feature[v] && clearance[w] >= 0.5 * crease_clearance[r] && clearance[w] >= 0.25 * inradius[r])
       offer(kFeature, w, centred);
+    if (on_feature[v] && clearance[w] > crease_far_clearance[r]) crease_far_clearance[r] = clearance[w], crease_far[r] = w;
     if (clearance[w] >= 0.5 * inradius[r]) offer(kCentre, w, centred);
   }
   for (Index r = 0; r < nr; ++r) {
@@ -118,7 +137,20 @@ std::vector<PrimalVertex> place_primal_vertices(const PrimalContext& ctx, const 
   for (Index r = 0; r < nr; ++r) {
     PrimalVertex& pv = vertices[r];
     pv.region = r;
-    for (Index rule = 0; rule < kRules; ++rule) {
+    // A region that can carry its creases (crease_structure.h) takes its vertex
+    // at their node, or on them: then the primal edges across its crease exits
+    // run along the crease, and the crease lies on primal edges only.
+    const RegionCreases& rc = ctx.regions.creases.regions[r];
+    if (rc.has_crease && rc.problem == CreaseProblem::None) {
+      if (rc.node != kInvalid) {
+        vertex_wedge[r] = wedge_at(ctx, rc.node, r);
+        pv.placement = VertexPlacement::Corner;
+      } else {
+        vertex_wedge[r] = best[r][kFeature] != kInvalid ? best[r][kFeature] : crease_far[r];
+        pv.placement = VertexPlacement::Feature;
+      }
+    }
+    for (Index rule = 0; rule < kRules && vertex_wedge[r] == kInvalid; ++rule) {
       if (best[r][rule] == kInvalid) continue;
       vertex_wedge[r] = best[r][rule];
       pv.placement = static_cast<VertexPlacement>(rule);

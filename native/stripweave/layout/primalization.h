@@ -15,10 +15,10 @@
 // straighten_primal_edges  relax the edges' zig-zag on the surface; fills
 //                        QuadLayout::positions
 // cut_primal_patches     patches, triangle_patch, patch_wedges
+// measure_crease_conformity  crease length on primal edges (issue 17)
 #pragma once
 
 #include "stripweave/layout/quad_layout.h"
-#include "stripweave/surface/creases.h"
 
 #include <limits>
 
@@ -76,5 +76,13 @@ std::vector<PrimalEdge> route_primal_edges(const PrimalContext& ctx, const std::
 void straighten_primal_edges(const PrimalContext& ctx, QuadLayout& layout);
 
 void cut_primal_patches(const PrimalContext& ctx, QuadLayout& layout);
+
+// Fills QuadLayout::crease_conformity, crease_off_edges, crease_conforming
+// (primal_crease_conformity.cpp).
+void measure_crease_conformity(const PrimalContext& ctx, QuadLayout& layout);
+
+// The refined vertices of the crease path from `from` to `to` inside region
+// r (its crease edges off the loops), in order; empty if there is none.
+std::vector<Index> crease_path_in_region(const PrimalContext& ctx, Index r, Index from, Index to);
 
 }  // namespace stripweave

@@ -2,27 +2,14 @@
 // quad_layout.h and primalization.h).
 #include "stripweave/layout/primalization.h"
 
+#include "stripweave/surface/creases.h"
+
 #include <limits>
 #include <queue>
 
 namespace stripweave {
 
 namespace {
-
-// The surface edge a refined edge lies on, or kInvalid. A refined vertex is
-// a surface vertex, or lies inside a surface edge, or inside a triangle.
-Index surface_edge_under(const Surface& s, const LoopArrangement& A, Index a, Index b) {
-  const Index ea = A.original_edge[a], eb = A.original_edge[b];
-  const Index oa = A.original_vertex[a], ob = A.original_vertex[b];
-  auto on = [&](Index e, Index v, Index ov, Index ev) {
-    if (ev != kInvalid) return ev == e;
-    return ov != kInvalid && (s.topology.edges[e][0] == ov || s.topology.edges[e][1] == ov);
-  };
-  if (ea != kInvalid) return on(ea, b, ob, eb) ? ea : kInvalid;
-  if (eb != kInvalid) return on(eb, a, oa, ea) ? eb : kInvalid;
-  if (oa != kInvalid && ob != kInvalid) return s.topology.find_edge(oa, ob);
-  return kInvalid;
-}
 
 // Whether the refined triangle t holds the directed edge a -> b.
 bool has_directed(const TriangleMesh& m, Index t, Index a, Index b) {
@@ -50,8 +37,7 @@ PrimalContext::PrimalContext(const Surface& s, const LoopArrangement& a, const R
   for (Index e = 0; e < ne; ++e) {
     const EdgeKey& k = rt.edges[e];
     edge_length[e] = (m.positions[k[0]] - m.positions[k[1]]).norm();
-    const Index se = surface_edge_under(s, a, k[0], k[1]);
-    edge_feature[e] = se != kInvalid && surface_crease[se];
+    edge_feature[e] = g.creases.refined_crease[e];
   }
   vertex_on_loop.assign(nv, 0);
   vertex_on_boundary.assign(nv, 0);
@@ -146,6 +132,12 @@ QuadLayout build_quad_layout(const Surface& s, const LoopArrangement& A, const R
   QuadLayout layout;
   layout.valid = G.valid;
   if (!G.valid) {
+    // No primal edges: every crease lies off them.
+    for (Index e = 0; e < A.topology.num_edges(); ++e)
+      if (G.creases.refined_crease[e])
+        layout.crease_off_edges += (A.mesh.positions[A.topology.edges[e][0]] - A.mesh.positions[A.topology.edges[e][1]]).norm();
+    layout.crease_conformity = layout.crease_off_edges > 0 ? 0.0 : 1.0;
+    layout.crease_conforming = false;
     layout.defects = find_layout_defects(s, A, layout);
     return layout;
   }
@@ -159,6 +151,7 @@ QuadLayout build_quad_layout(const Surface& s, const LoopArrangement& A, const R
   }
   straighten_primal_edges(ctx, layout);
   cut_primal_patches(ctx, layout);
+  measure_crease_conformity(ctx, layout);
   layout.defects = find_layout_defects(s, A, layout, ctx.surface_crease);
   return layout;
 }

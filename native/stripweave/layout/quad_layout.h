@@ -29,12 +29,19 @@
 //               the loops (each region's shortest-path tree from its vertex,
 //               so edges leaving a vertex never cross; edges of different
 //               regions meet only where they cross their arc), with sharp
+//               an edge across an arc that a crease crosses (a crease
+//               exit of both regions) IS the crease chain from one vertex
+//               over the exit to the other, and is never re-routed; other
+//               edges have sharp
 //               feature and open-boundary edges made cheap so that a primal
 //               edge whose corridor holds a crease or the boundary follows
 //               it. The edge crosses its arc once, where the two trees'
 //               distances sum to the least. Edges that would share vertices
 //               are re-routed apart; then the zig-zag of the mesh-edge paths
 //               is relaxed on the surface (primal_straightening.cpp).
+//               A region whose creases form a star (crease_structure.h)
+//               takes its vertex at the star's node (a crease junction, end
+//               or boundary meeting), or on the crease when it has none.
 //     patches   primal_patches.cpp: the refined mesh cut along the primal
 //               edges; each piece holds one crossing, and its boundary is
 //               read as four sides (edge runs) between four corners.
@@ -106,10 +113,21 @@ struct QuadLayout {
   std::vector<Index> triangle_patch;  // per refined triangle, kInvalid outside every patch
   Wedges patch_wedges;                // the refined mesh cut open along the primal edges
   std::vector<std::string> problems;
+  // Crease conformity (issue 17; primal_crease_conformity.cpp): the crease
+  // length lying on primal edges over the whole crease length (1 without
+  // creases; 0 for an invalid layout with creases), the crease length off
+  // them (normalized units), and whether the layout is crease-conforming: no
+  // region is crease-coloured and no more than kCreaseSlack of crease length
+  // lies off the primal edges.
+  double crease_conformity = 1.0;
+  double crease_off_edges = 0;
+  bool crease_conforming = true;
   // The strict checks (layout_defects.h), also of an invalid layout (whose
   // every surface triangle is uncovered).
   LayoutDefects defects;
 };
+
+constexpr double kCreaseSlack = 1e-6;  // of the bounding-box diagonal
 
 QuadLayout build_quad_layout(const Surface& surface, const LoopArrangement& arrangement, const Regions& regions,
                              const std::vector<Singularity>& singularities);

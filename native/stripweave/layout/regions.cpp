@@ -154,10 +154,18 @@ Regions compute_regions(const Surface& s, const LoopArrangement& A, const std::v
   // Topology, colours, validity, and the Euler check.
   out.valid = true;
   out.euler_sum = A.graph_vertices - A.graph_edges;
-  for (Region& r : R) {
+  out.creases = crease_structure(s, A, out.triangle_region, nr);
+  for (Index k = 0; k < nr; ++k) {
+    Region& r = R[k];
     r.genus = (2 - r.euler_characteristic - r.boundaries) / 2;
     r.disc = r.euler_characteristic == 1 && r.boundaries == 1;
-    r.colour = assess_region(r.disc, static_cast<int>(r.singularities.size()), r.valence, r.total_curvature);
+    std::vector<int> quarters;
+    for (Index i : r.singularities) quarters.push_back(singularities[i].quarter_index);
+    r.excess_extrema = excess_extrema(quarters);
+    r.crease_problem = out.creases.regions[k].problem;
+    r.crease_excess = out.creases.regions[k].excess;
+    r.colour = assess_region(r.disc, r.crease_problem != CreaseProblem::None, r.excess_extrema, r.valence,
+                             r.total_curvature);
     out.valid &= r.colour != RegionColour::Red;
     out.euler_sum += r.euler_characteristic;
   }

@@ -44,6 +44,8 @@
 //                largest angle at its vertex (the one it lies inside, or on
 //                a loop the side it mostly faces).
 //     area       of the refined triangles (normalized units squared).
+//     creases    crease_structure (crease_structure.h): whether the region
+//                can carry its creases on primal edges, and its crease node.
 //     colour     assess_region (assessment.h).
 //   Output: per refined triangle its region; per region the above; per arc
 //           of the arrangement its left and right region; valid iff no
@@ -52,6 +54,7 @@
 #pragma once
 
 #include "stripweave/layout/assessment.h"
+#include "stripweave/layout/crease_structure.h"
 #include "stripweave/layout/loop_arrangement.h"
 
 namespace stripweave {
@@ -66,6 +69,9 @@ struct Region {
   int valence = 0;
   double total_curvature = 0;
   std::vector<Index> singularities;  // indices into the input singularities
+  int excess_extrema = 0;            // curvature extrema of one kind beyond the first (assessment.h)
+  CreaseProblem crease_problem = CreaseProblem::None;  // crease_structure.h
+  int crease_excess = 0;                               // ... and how far from carrying its creases
   RegionColour colour = RegionColour::None;
 };
 
@@ -75,6 +81,7 @@ struct Regions {
   std::vector<Index> arc_left, arc_right;  // per arc, kInvalid on an open boundary
   bool valid = false;
   int euler_sum = 0;
+  CreaseStructure creases;  // what the creases ask of each region and arc (crease_structure.h)
 };
 
 Regions compute_regions(const Surface& surface, const LoopArrangement& arrangement,

@@ -6,6 +6,7 @@
 #include "stripweave/core/error.h"
 #include "stripweave/core/parallel.h"
 #include "stripweave/occt/brep_source.h"
+#include "stripweave/surface/creases.h"
 #include "stripweave/surface/feature_curves.h"
 #include "stripweave/surface/sanitize_mesh.h"
 #include "stripweave/surface/surface_report.h"
@@ -341,6 +342,9 @@ Surface surface_from_mesh(const TriangleMesh& raw, const SurfaceOptions& opt, Pr
   std::vector<Index> edge_curve;
   std::vector<FeatureCurve> curves =
       chain_feature_curves(mesh, topo, classes, {}, opt.min_feature_length, edge_curve);
+  // The one crease set (creases.h), decided before remeshing so that the
+  // remesher protects only creases and smooths the noise ridges away.
+  keep_crease_curves(mesh, topo, classes, curves, edge_curve);
   clock.lap("features");
 
   if (opt.target_triangles > 0) {

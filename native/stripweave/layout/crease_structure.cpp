@@ -1,0 +1,221 @@
+// The crease structure of the regions (see the header).
+#include "stripweave/layout/crease_structure.h"
+
+#include <algorithm>
+#include <numeric>
+#include <unordered_map>
+
+namespace stripweave {
+
+namespace {
+
+// The surface edge a refined edge lies on, or kInvalid. A refined vertex is
+// a surface vertex, or lies inside a surface edge, or inside a triangle.
+Index surface_edge_under(const Surface& s, const LoopArrangement& A, Index a, Index b) {
+  const Index ea = A.original_edge[a], eb = A.original_edge[b];
+  const Index oa = A.original_vertex[a], ob = A.original_vertex[b];
+  auto on = [&](Index e, Index ov, Index ev) {
+    if (ev != kInvalid) return ev == e;
+    return ov != kInvalid && (s.topology.edges[e][0] == ov || s.topology.edges[e][1] == ov);
+  };
+  if (ea != kInvalid) return on(ea, ob, eb) ? ea : kInvalid;
+  if (eb != kInvalid) return on(eb, oa, ea) ? eb : kInvalid;
+  if (oa != kInvalid && ob != kInvalid) return s.topology.find_edge(oa, ob);
+  return kInvalid;
+}
+
+// Per refined vertex: the arc it lies inside (kInvalid at nodes and off the loops).
+std::vector<Index> vertex_arcs(const LoopArrangement& A) {
+  std::vector<Index> arc_of(A.mesh.num_vertices(), kInvalid);
+  for (size_t k = 0; k < A.arcs.size(); ++k) {
+    const LoopArc& arc = A.arcs[k];
+    const size_t first = arc.closed ? 0 : 1, last = arc.closed ? arc.vertices.size() : arc.vertices.size() - 1;
+    for (size_t i = first; i < last; ++i) arc_of[arc.vertices[i]] = static_cast<Index>(k);
+  }
+  return arc_of;
+}
+
+// The per-region analysis, one region's crease edges at a time.
+struct Analysis {
+  const LoopArrangement& A;
+  const std::vector<Index>& triangle_region;
+  CreaseStructure& out;
+  std::vector<Index> arc_of;
+  std::vector<std::uint8_t> node_vertex, on_boundary;
+  std::vector<std::vector<Index>> region_edges;  // per region, its crease edges off the loops
+
+  Analysis(const LoopArrangement& a, const std::vector<Index>& tr, CreaseStructure& o, Index nr)
+      : A(a), triangle_region(tr), out(o), arc_of(vertex_arcs(a)), region_edges(nr) {
+    const Index nv = A.mesh.num_vertices();
+    on_boundary.assign(nv, 0);
+    node_vertex.assign(nv, 0);
+    for (Index e = 0; e < A.topology.num_edges(); ++e)
+      if (A.topology.is_boundary_edge(e))
+        for (Index v : A.topology.edges[e]) on_boundary[v] = 1;
+    for (const ArrangementNode& n : A.nodes) node_vertex[n.vertex] = 1;
+  }
+
+  void flag(Index r, CreaseProblem p, Index at, int excess = 1) {
+    RegionCreases& rc = out.regions[r];
+    rc.excess += excess;
+    if (rc.problem != CreaseProblem::None) return;
+    rc.problem = p, rc.problem_vertex = at;
+  }
+
+  // Loops running along creases: the crease lies between two regions, on no primal edge.
+  void loops_along_creases() {
+    for (Index e = 0; e < A.topology.num_edges(); ++e) {
+      if (!out.refined_crease[e]) continue;
+      const auto& et = A.topology.edge_triangles[e];
+      if (!A.on_loop(e)) {
+        region_edges[triangle_region[et[0]]].push_back(e);
+        continue;
+      }
+      for (Index t : et)
+        if (t != kInvalid) flag(triangle_region[t], CreaseProblem::AlongLoop, A.topology.edges[e][0]);
+    }
+  }
+
+  void analyse(Index r, bool touches_boundary, std::vector<Index>& degree, std::vector<Index>& parent) {
+    const std::vector<Index>& edges = region_edges[r];
+    RegionCreases& rc = out.regions[r];
+    rc.has_crease = !edges.empty();
+    if (edges.empty()) return;
+    // The region's crease graph: its vertices, degrees and components.
+    std::vector<Index> vertices;
+    for (Index e : edges)
+      for (Index v : A.topology.edges[e]) {
+        if (degree[v]++ == 0) vertices.push_back(v), parent[v] = v;
+      }
+    auto root = [&](Index v) {
+      while (parent[v] != v) v = parent[v] = parent[parent[v]];
+      return v;
+    };
+    Index components = static_cast<Index>(vertices.size());
+    int cycles = 0;  // independent cycles: E - V + components
+    for (Index e : edges) {
+      const Index a = root(A.topology.edges[e][0]), b = root(A.topology.edges[e][1]);
+      if (a == b) ++cycles;
+      else parent[a] = b, --components;
+    }
+    std::vector<std::pair<Index, Index>> exits;  // (arc, vertex), one per crease edge leaving
+    Index boundary_nodes = 0;
+    for (Index v : vertices) {
+      if (node_vertex[v]) {
+        // A loop crossing, or an open curve's end, on the crease: the crease
+        // reaches a corner of the region's boundary, where no primal vertex can be.
+        flag(r, CreaseProblem::OnCrossing, v);
+      } else if (arc_of[v] != kInvalid) {
+        for (Index d = 0; d < degree[v]; ++d) exits.push_back({arc_of[v], v});
+        if (out.arc_exit[arc_of[v]] == kInvalid) out.arc_exit[arc_of[v]] = v;
+        else if (out.arc_exit[arc_of[v]] != v) out.arc_exit[arc_of[v]] = kNoExit;
+      } else if (on_boundary[v] || degree[v] != 2) {
+        boundary_nodes += on_boundary[v];
+        if (rc.node == kInvalid) rc.node = v;
+        else flag(r, CreaseProblem::TwoNodes, v);
+      }
+    }
+    std::sort(exits.begin(), exits.end());
+    const auto same_arc = [](const auto& a, const auto& b) { return a.first == b.first; };
+    const auto twice = std::adjacent_find(exits.begin(), exits.end(), same_arc);
+    int repeated = 0;  // exits beyond the first across each arc
+    for (size_t i = 1; i < exits.size(); ++i) repeated += same_arc(exits[i - 1], exits[i]);
+    Index other_end = kInvalid;  // the second node, or exit, that the problem pairs with the first
+    if (rc.problem == CreaseProblem::TwoNodes) other_end = rc.problem_vertex;
+    if (twice != exits.end()) {
+      flag(r, CreaseProblem::SameArc, twice->second, repeated);
+      if (rc.problem == CreaseProblem::SameArc) other_end = (twice + 1)->second;
+    }
+    if (components > 1) {
+      Index apart = vertices[0];
+      for (Index v : vertices)
+        if (root(v) != root(vertices[0])) apart = v;
+      flag(r, CreaseProblem::Disconnected, apart, static_cast<int>(components) - 1);
+    }
+    if (cycles > 0) flag(r, CreaseProblem::Cycle, vertices[0], cycles);
+    if (touches_boundary && boundary_nodes == 0) flag(r, CreaseProblem::BoundaryApart, vertices[0]);
+    if (rc.problem != CreaseProblem::None) {
+      const Index from = rc.problem == CreaseProblem::TwoNodes ? rc.node : rc.problem == CreaseProblem::SameArc
+                                                                                  ? twice->second
+                                                                                  : kInvalid;
+      rc.split_vertex = from != kInvalid && other_end != kInvalid ? middle_of_path(edges, from, other_end) : kInvalid;
+      if (rc.split_vertex == kInvalid) rc.split_vertex = rc.problem_vertex;
+    }
+    for (Index v : vertices) degree[v] = 0;
+  }
+
+  // The vertex halfway (by length) along the crease path from a to b over
+  // `edges` (breadth-first: the crease network between two nodes of one
+  // region is a chain or a small tree); kInvalid if they are not joined.
+  Index middle_of_path(const std::vector<Index>& edges, Index a, Index b) const {
+    std::unordered_map<Index, std::vector<Index>> next;
+    for (Index e : edges) {
+      const EdgeKey& k = A.topology.edges[e];
+      next[k[0]].push_back(k[1]), next[k[1]].push_back(k[0]);
+    }
+    std::unordered_map<Index, Index> pred{{a, a}};
+    std::vector<Index> queue{a};
+    for (size_t i = 0; i < queue.size() && !pred.count(b); ++i)
+      for (Index w : next[queue[i]])
+        if (pred.emplace(w, queue[i]).second) queue.push_back(w);
+    if (!pred.count(b)) return kInvalid;
+    std::vector<Index> path{b};
+    while (path.back() != a) path.push_back(pred[path.back()]);
+    double total = 0;
+    for (size_t i = 0; i + 1 < path.size(); ++i) total += length(path[i], path[i + 1]);
+    double run = 0;
+    for (size_t i = 0; i + 1 < path.size(); ++i) {
+      run += length(path[i], path[i + 1]);
+      if (run >= 0.5 * total) return path[i + 1];
+    }
+    return path.front();
+  }
+
+  double length(Index a, Index b) const { return (A.mesh.positions[a] - A.mesh.positions[b]).norm(); }
+
+  static constexpr Index kNoExit = kInvalid - 1;
+};
+
+}  // namespace
+
+const char* crease_problem_name(CreaseProblem problem) {
+  switch (problem) {
+    case CreaseProblem::TwoNodes: return "two crease nodes";
+    case CreaseProblem::Disconnected: return "crease pieces apart";
+    case CreaseProblem::Cycle: return "closed crease";
+    case CreaseProblem::SameArc: return "crease crosses one arc twice";
+    case CreaseProblem::OnCrossing: return "loop crossing on a crease";
+    case CreaseProblem::AlongLoop: return "loop along a crease";
+    case CreaseProblem::BoundaryApart: return "crease apart from the boundary";
+    default: return "none";
+  }
+}
+
+std::vector<std::uint8_t> refined_crease_edges(const Surface& s, const LoopArrangement& A) {
+  std::vector<std::uint8_t> crease(A.topology.num_edges(), 0);
+  for (Index e = 0; e < A.topology.num_edges(); ++e) {
+    const Index se = surface_edge_under(s, A, A.topology.edges[e][0], A.topology.edges[e][1]);
+    crease[e] = se != kInvalid && s.edge_class[se] == EdgeClass::Feature;
+  }
+  return crease;
+}
+
+CreaseStructure crease_structure(const Surface& s, const LoopArrangement& A, const std::vector<Index>& triangle_region,
+                                 Index num_regions) {
+  CreaseStructure out;
+  out.refined_crease = refined_crease_edges(s, A);
+  out.regions.assign(num_regions, RegionCreases{});
+  out.arc_exit.assign(A.arcs.size(), kInvalid);
+  Analysis analysis(A, triangle_region, out, num_regions);
+  analysis.loops_along_creases();
+  std::vector<std::uint8_t> touches(num_regions, 0);
+  for (Index e = 0; e < A.topology.num_edges(); ++e)
+    if (A.topology.is_boundary_edge(e)) touches[triangle_region[A.topology.edge_triangles[e][0]]] = 1;
+  std::vector<Index> degree(A.mesh.num_vertices(), 0), parent(A.mesh.num_vertices(), kInvalid);
+  for (Index r = 0; r < num_regions; ++r) analysis.analyse(r, touches[r], degree, parent);
+  for (Index& x : out.arc_exit)
+    if (x == Analysis::kNoExit) x = kInvalid;
+  return out;
+}
+
+}  // namespace stripweave
