@@ -312,7 +312,8 @@ def test_refinement_lays_no_patch_over_a_crease(tmp_path):
     and the STEP missed the tolerance there (0.14 against 0.094). Now no patch of the
     woven layout is creased."""
     from stripweave.weave import _creased
-    assert _creased({"crease_off_edges": 2.0, "patches": []}) == 2.0
+    assert _creased({"patches": [{"crease_length": 2.0, "creased": True},
+                                 {"crease_length": 0.005, "creased": False}]}) == 2.0
     r = sw.weave(os.path.join(REPO, "examples", "handle.step"), out=str(tmp_path), preview=False)
     assert r["valid"] and r["patches"] >= 50
     with open(tmp_path / "layout.json", encoding="utf-8") as f:

@@ -165,11 +165,25 @@ def flaws(a):
     return colour_flaws(a) + extreme
 
 
+def shows(region, colour):
+    """Whether a region has the flaw of an assessment colour (§4.2), whatever colour it is
+    shown in: a region shows one colour (red, then crease, then orange, then yellow), and
+    a crease region may also hold extrema to split or a valence mismatch."""
+    if colour in ("red", "crease"):
+        return region["colour"] == colour
+    if not region["disc"]:
+        return False
+    orange = extra_extrema(region) > 0
+    if colour == "orange":
+        return orange
+    return not orange and abs(region["valence"] - region["ideal_valence"]) > 1 + 1e-9
+
+
 def colour_flaws(a):
-    """Orange and yellow regions in one number (§4.2): curvature extrema of one kind beyond
+    """Orange and yellow flaws in one number (§4.2): curvature extrema of one kind beyond
     the first (extra_extrema), plus half of each yellow region's valence mismatch."""
-    orange = sum(extra_extrema(r) for r in a["regions"] if r["colour"] == "orange")
-    yellow = sum(abs(r["valence"] - r["ideal_valence"]) for r in a["regions"] if r["colour"] == "yellow")
+    orange = sum(extra_extrema(r) for r in a["regions"] if shows(r, "orange"))
+    yellow = sum(abs(r["valence"] - r["ideal_valence"]) for r in a["regions"] if shows(r, "yellow"))
     return orange + 0.5 * yellow
 
 
@@ -196,7 +210,7 @@ def seeds_in_order(a, options, skip):
     out = []
     for colour in (c for c in COLOURS if c == "red" or c in options.colours):
         regions = [(i, r) for i, r in enumerate(a["regions"])
-                   if r["colour"] == colour
+                   if shows(r, colour)
                    and (colour in ("red", "crease") or not options.extreme_only or r["valence"] <= 2
                         or r["valence"] >= 6)]
         for i, r in sorted(regions, key=lambda x: (-x[1]["area"], x[0])):
@@ -403,17 +417,24 @@ def _deviation(layout):
 
 def _corner_deviations(p):
     """A patch's four corner deviations from 90 degrees; 90 each where it is no quad."""
-    return [abs(x - 90.0) for x in p["corner_angles_deg"]] if p.get("quad", True) else [90.0] * 4
+    # A patch laid over a crease counts as 90 degrees off too: no smooth patch fits it, and a
+    # coarse layout of such patches has good corners (the crease runs through them) that would
+    # otherwise stop refinement (fandisk: 6 patches at 4.3 degrees, 4 of them over creases).
+    if not p.get("quad", True) or p.get("creased", False):
+        return [90.0] * 4
+    return [abs(x - 90.0) for x in p["corner_angles_deg"]]
 
 
 def _creased(layout):
-    """How much crease lies off the layout's primal edges (model units, layout.json's
-    crease_off_edges, issue 17). Refinement may not raise it: a patch over a crease is one
-    no smooth patch fits (the handle's refinement laid one over its top rim, and its STEP
-    missed the tolerance there), whatever its corners. Counting such patches as 90 degrees
-    off instead left a tube whose creases run its whole length at one patch: every single
-    strip still left each patch over a crease."""
-    return float(layout["crease_off_edges"])
+    """How much crease lies inside the layout's patches (model units, patches the layout
+    marks "creased": more than 1% of the diagonal inside, layout.json). Refinement may not
+    raise it: a patch over a crease is one no smooth patch fits (the handle's refinement
+    laid one over its top rim, and its STEP missed the tolerance there), whatever its
+    corners. Counting such patches as 90 degrees off instead left a tube whose creases run
+    its whole length at one patch: every single strip still left each patch over a crease.
+    (Not the crease length off the primal edges, crease_off_edges: measured on fandisk, that
+    refused nearly every refining strip, 8 patches where this gives 60.)"""
+    return sum(p.get("crease_length", 0.0) for p in layout.get("patches", ()) if p.get("creased", False))
 
 
 def _at_length(points, t):
@@ -698,7 +719,8 @@ def _weave(w, ds, options):
             a = w.assess()
             continue
         if not seeds:
-            colours_left = sum(a["colours"][c] for c in ("crease", "orange", "yellow") if c in options.colours)
+            colours_left = sum(1 for r in a["regions"] for c in ("crease", "orange", "yellow")
+                               if c in options.colours and shows(r, c))
             result.stopped = "done" if valid and not colours_left else "no seed helps"
             break
         reason, region, colour, points = seeds[0]
