@@ -323,6 +323,36 @@ class SessionCache:
             self.applied_key = design_key(self.session.design, self._features)
             return self.session.design.to_dict(), self._snapshot(None)
 
+    def run(self, fn):
+        """``fn(design_session)`` under the lock (no hover query or edit in
+        between), for work that reads the derived state: the layout, the fit."""
+        with self.lock:
+            self._require()
+            self._mask_key = None
+            return fn(self.session)
+
+    def weave(self, options, on_session=None):
+        """Complete the design by automatic weaving (stripweave.weave) with
+        ``options`` (a WeaveOptions; its ``cancel`` event stops it) and adopt
+        the result.  The weave runs on a second DesignSession over the same
+        loop engine, so a cancelled or failed weave leaves this cache as it
+        was.  ``on_session(ds)`` gets the weave's DesignSession (to watch its
+        strips).  Returns (WeaveResult, design dict, snapshot)."""
+        from stripweave.strips import DesignSession
+        from stripweave.weave import auto_weave
+        with self.lock:
+            self._require()
+            ds = DesignSession(self.surface, self.session.design.copy(), loop_session=self.session.loop_session,
+                               features=self._features)
+            self._mask_key = None
+            if on_session is not None:
+                on_session(ds)
+            result = auto_weave(ds, options)
+            self.session = ds
+            self._state_key = state_options_key(ds.design)
+            self.applied_key = design_key(ds.design, self._features)
+            return result, ds.design.to_dict(), self._snapshot(None)
+
     def _require(self):
         if self.session is None:
             raise RuntimeError("the design is not derived yet")
