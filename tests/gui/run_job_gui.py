@@ -18,14 +18,13 @@ import json
 import os
 import subprocess
 import sys
-import threading
 import time
 
 sys.path.insert(0, os.environ.get("STRIPWEAVE_GUI_TESTS") or os.path.dirname(os.path.abspath(__file__)))
 
 import FreeCAD as App  # noqa: E402
 import FreeCADGui as Gui  # noqa: E402
-from PySide import QtGui  # noqa: E402
+from PySide import QtCore, QtGui  # noqa: E402
 
 import gui_harness as h  # noqa: E402
 import job_part  # noqa: E402
@@ -75,23 +74,19 @@ def click_widget(widget):
     h.xdotool("click", 1, settle=0.0)
 
 
-def type_into_dialog(path, out):
-    """On a thread: once the modal file dialog is up, select its file name,
-    type ``path`` and press Return (real keys; no Qt calls from here but
-    reading which widget is modal)."""
-    end = time.monotonic() + 20
-    while time.monotonic() < end:
-        time.sleep(0.3)
-        w = QtGui.QApplication.activeModalWidget()
-        if w is not None:
-            out["dialog"] = type(w).__name__
-            break
-    else:
+def type_into_dialog(path, out, tries=40):
+    """Polled from a timer, which the modal file dialog's own event loop
+    runs: once the dialog is up, real keys select its file name, type
+    ``path`` and press Return (xdotool in the background: the dialog's loop
+    must stay free to take them)."""
+    w = QtGui.QApplication.activeModalWidget()
+    if w is None:
+        if tries > 0:
+            QtCore.QTimer.singleShot(250, lambda: type_into_dialog(path, out, tries - 1))
         return
-    time.sleep(0.5)
-    for args in (["key", "ctrl+a"], ["type", "--delay", "20", path], ["key", "Return"]):
-        subprocess.run(["xdotool"] + args, check=True, timeout=20)
-        time.sleep(0.3)
+    out["dialog"] = type(w).__name__
+    script = "sleep 0.5; xdotool key ctrl+a; xdotool type --delay 20 '{}'; sleep 0.3; xdotool key Return".format(path)
+    out["typist"] = subprocess.Popen(["sh", "-c", script])
 
 
 def select_part_by_click(view, part):
@@ -190,6 +185,7 @@ def scenario():
     check("Show layout: the tinted patches drawn", layout.ViewObject.Proxy.overlay.face_set.coordIndex.getNum() > 0)
     h.result["info"]["layout_status"] = layout.Status
     view.fitAll()
+    Gui.Selection.clearSelection()   # the selection highlight would cover the tints
     shot = os.path.join(WORKDIR, "layout.png")
     check("screenshot layout.png", h.save_screenshot(view, shot), shot)
 
@@ -211,6 +207,7 @@ def scenario():
     check("Fit patches: the patch wires as a compound", wires is not None and len(wires.Shape.Wires) == len(shape.Faces))
     check("Fit patches: one undoable 'Fit patches'", "Fit patches" in doc.UndoNames[:2], doc.UndoNames)
     h.result["info"]["patches_status"] = patches.Status
+    Gui.Selection.clearSelection()
     shot = os.path.join(WORKDIR, "patches.png")
     check("screenshot patches.png", h.save_screenshot(view, shot), shot)
 
@@ -218,12 +215,11 @@ def scenario():
     step = os.path.join(WORKDIR, "job.step")
     Gui.Selection.clearSelection()
     Gui.Selection.addSelection(patches)
-    # The dialog is modal (a nested event loop): the typing comes from a thread, as a user's would.
+    # The dialog is modal (a nested event loop): a timer in that loop types, as a user would.
     typed = {}
-    typist = threading.Thread(target=type_into_dialog, args=(step, typed), daemon=True)
-    typist.start()
+    QtCore.QTimer.singleShot(300, lambda: type_into_dialog(step, typed))
     shortcut("y", "s")
-    typist.join(30)
+    h.wait_until(lambda: "typist" in typed and typed["typist"].poll() is not None, 30)
     check("Y S: the file dialog took the typed path", typed.get("dialog") == "QFileDialog", typed)
     wait_tasks(60)
     check("Export STEP: the file written", os.path.isfile(step), step)

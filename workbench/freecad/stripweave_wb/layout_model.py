@@ -161,6 +161,16 @@ class LayoutModel(DerivedObject):
         return result["mesh"] if result is not None else None
 
 
+def hide_inputs(design):
+    """Hide what the layout is drawn over (the design's stripes, the surface
+    model's curves and the part): they lie on the same surface and would
+    show through it (GUI)."""
+    sm = design.Surface
+    for o in (design, sm, getattr(sm, "Source", None)):
+        if o is not None and o.ViewObject is not None:
+            o.ViewObject.Visibility = False
+
+
 def create(design, doc=None, name="Layout"):
     """The Layout of ``design`` (an existing one is reused), made in one
     transaction "Show layout" and recomputed.  Headless: computed at once
@@ -183,7 +193,7 @@ def create(design, doc=None, name="Layout"):
         if App.GuiUp and obj.ViewObject is not None:
             from .layout_view import ViewProviderLayout
             ViewProviderLayout(obj.ViewObject)
-            design.ViewObject.Visibility = False
+            hide_inputs(design)
         doc.recompute()
     return obj
 

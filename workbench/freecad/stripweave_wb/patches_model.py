@@ -233,7 +233,10 @@ def create(layout, tolerance=None, doc=None, name="Patches"):
                 ViewProviderPatchWires(wires.ViewObject)
                 wires.ViewObject.LineColor = (0.1, 0.1, 0.1)
                 wires.ViewObject.LineWidth = 2.0
+                from .layout_model import hide_inputs
                 layout.ViewObject.Visibility = False
+                if layout.Design is not None:
+                    hide_inputs(layout.Design)
         doc.recompute()
     return obj
 
