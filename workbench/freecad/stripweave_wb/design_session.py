@@ -187,20 +187,22 @@ class SessionCache:
                     self._querying = False
 
     def proposals(self, point, alternatives=1):
-        """What the design tool shows through ``point``: with alternatives
+        """What the design tool shows through ``point`` (or through the
+        directional anchor ``point`` = (x, y, z, dx, dy, dz) of a drag): with alternatives
         1 the hover query (the best loop over all directions), else up to
         that many ranked alternatives.  Each is a dict as
         ``LoopSession.describe`` plus ``anchors``: directional anchors on the
         loop (native ``loop_anchor``, the one nearest ``point`` first) from
         which :meth:`add_shown` tries to derive it again.  Interruptible."""
         native = _native()
-        point = [float(c) for c in point][:3]
+        anchor = [float(c) for c in point][:6]
+        point = anchor[:3]   # a directional anchor (x, y, z, dx, dy, dz): a drag (§4.1)
 
         def run(ls):
-            if alternatives <= 1:
+            if alternatives <= 1 and len(anchor) == 3:
                 loops = [ls.native.best_loop(point, True)]
             else:
-                loops = ls.native.loops([point], int(alternatives), True)
+                loops = ls.native.loops([anchor], int(alternatives), True)
             out = []
             for loop in loops:
                 d = ls.describe(loop)

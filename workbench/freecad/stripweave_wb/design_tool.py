@@ -15,6 +15,10 @@
   click: while it runs, FreeCAD's preselection and selection are off in its
   view (``SelectionSuspended``), and the press and the release of a click
   on the model are both marked handled, so neither selects the part;
+* a drag from a point on the model (more than CLICK_TOLERANCE_PX) sets a
+  directional anchor there along the drag: the loop through the point in
+  that direction follows the drag live, and the release adds it (as a click
+  adds the loop shown);
 * the task panel lists the strips with Remove buttons, the singularities and
   fold-overs; Close or Esc ends the tool.
 
@@ -32,6 +36,7 @@ Scriptable (tests, macros)::
     tool.wait_idle(); tool.preview_point_count()
     tool.browse(+1); tool.shown_proposal()
     tool.click_screen(x, y) / tool.add_at(point); tool.close()
+    tool.drag_to(point, direction); tool.add_dragged()    # what a drag does
 """
 
 import time
@@ -145,6 +150,8 @@ class DesignTool:
         self.last_error = None
         self._seen_json = obj.DesignJson
         self._press = None
+        self._press_point = None      # the surface point under the press
+        self.drag_anchor = None       # (x, y, z, dx, dy, dz) while dragging
         self._callbacks = []
         self._filter = _ViewEventFilter(self)
         self._filtered = []
@@ -238,7 +245,38 @@ class DesignTool:
     # -- input ---------------------------------------------------------------------------
     def _on_move(self, event_cb):
         pos = event_cb.getEvent().getPosition()
-        self.hover_screen(int(pos[0]), int(pos[1]))
+        x, y = int(pos[0]), int(pos[1])
+        if self._press is not None and (abs(x - self._press[0]) > CLICK_TOLERANCE_PX
+                                        or abs(y - self._press[1]) > CLICK_TOLERANCE_PX):
+            event_cb.setHandled()
+            self.drag_screen(x, y)
+            return
+        self.hover_screen(x, y)
+
+    def drag_screen(self, x, y):
+        """A drag from the press point to (x, y): the loop through the press
+        point along the drag (a directional anchor, paper §4.1), shown live;
+        the release adds it.  Returns the anchor or None (cursor off the model)."""
+        point = self.pick(x, y)
+        start = self._press_point
+        if point is None or start is None or self.closed:
+            return None
+        direction = np.subtract(point, start)
+        norm = float(np.linalg.norm(direction))
+        if norm <= 0.0:
+            return None
+        return self.drag_to(start, direction / norm)
+
+    def drag_to(self, start, direction):
+        """Show the loop through surface point ``start`` along ``direction``."""
+        self.point = tuple(float(c) for c in start)
+        self.drag_anchor = self.point + tuple(float(c) for c in direction)
+        self.index = self.want_index = 0
+        self.alternatives_requested = False
+        self.proposals = []
+        if self.worker is not None and not self.closed:
+            self.proposal_serial = self.worker.propose("best", self.drag_anchor)
+        return self.drag_anchor
 
     def _on_button(self, event_cb):
         """A left click that starts on the model belongs to the tool: its
@@ -252,7 +290,9 @@ class DesignTool:
         pos = ev.getPosition()
         x, y = int(pos[0]), int(pos[1])
         if ev.getState() == coin.SoButtonEvent.DOWN:
-            self._press = (x, y) if self.pick(x, y) is not None else None
+            self._press_point = self.pick(x, y)
+            self._press = (x, y) if self._press_point is not None else None
+            self.drag_anchor = None
             if self._press is not None:
                 event_cb.setHandled()
         elif ev.getState() == coin.SoButtonEvent.UP and self._press is not None:
@@ -261,6 +301,8 @@ class DesignTool:
             event_cb.setHandled()
             if abs(x - px) <= CLICK_TOLERANCE_PX and abs(y - py) <= CLICK_TOLERANCE_PX:
                 self.click_screen(x, y)
+            elif self.drag_anchor is not None:
+                self.add_dragged()
 
     def _on_key(self, event_cb):
         ev = event_cb.getEvent()
@@ -298,6 +340,7 @@ class DesignTool:
     def hover_point(self, point):
         """Propose the best loop through ``point`` (a surface point)."""
         self.point = tuple(float(c) for c in point)
+        self.drag_anchor = None
         self.index = self.want_index = 0
         self.alternatives_requested = False
         self.proposals = []
@@ -335,6 +378,23 @@ class DesignTool:
             self.add_serial = self.worker.add_strip([list(map(float, point))])
         self.panel.set_busy(True)
         self.panel.set_status("adding the strip ...")
+        return True
+
+    def add_dragged(self):
+        """The release of a drag: add the loop shown along it (once its
+        query has answered; before that, the directional anchor itself)."""
+        obj = self.obj()
+        if self.worker is None or obj is None or self.add_serial is not None or self.drag_anchor is None:
+            return False
+        shown = self.shown_proposal()
+        self.add_base = obj.DesignJson
+        if shown is not None:
+            self.add_serial = self.worker.add_strip(shown["anchors"], shown=shown["points"])
+        else:
+            self.add_serial = self.worker.add_strip([list(self.drag_anchor)])
+        self.drag_anchor = None
+        self.panel.set_busy(True)
+        self.panel.set_status("adding the strip along the drag ...")
         return True
 
     def shown_proposal(self):
@@ -425,10 +485,11 @@ class DesignTool:
             return
         if derive_async.pending(self.obj()):
             return  # the session is catching up with the design; _ready proposes again
+        where = self.drag_anchor if self.drag_anchor is not None else self.point
         if self.alternatives_requested:
-            self.proposal_serial = self.worker.propose("alternatives", self.point, ALTERNATIVES)
+            self.proposal_serial = self.worker.propose("alternatives", where, ALTERNATIVES)
         else:
-            self.proposal_serial = self.worker.propose("best", self.point)
+            self.proposal_serial = self.worker.propose("best", where)
 
     def _show(self):
         if not self.proposals:
