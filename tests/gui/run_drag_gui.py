@@ -9,8 +9,11 @@ through P along the drag; the release adds that loop.  Checked: the anchor
 the tool took points along the drag; the shown loop's and the added
 strip's tangent at P are within 10 degrees of the drag (in the tangent
 plane); nothing is selected.  Screenshot drag.png (while dragging).
+Then Shift+click (shift_click_anchors): two anchors, Enter adds the strip
+through both; Esc drops pending anchors.  Screenshot anchors.png.
 """
 
+import json
 import math
 import os
 import sys
@@ -55,6 +58,65 @@ def in_plane(v):
 def angle_deg(a, b):
     """Angle between two lines (direction-free), degrees."""
     return math.degrees(math.acos(min(1.0, abs(float(np.dot(in_plane(a), in_plane(b)))))))
+
+
+def shift_click(view, tool, point):
+    """Real Shift + left click on ``point``."""
+    h.mouse_move(view, *h.screen_position(view, point))
+    h.xdotool("keydown", "shift", settle=0.05)
+    h.mouse_click(1)
+    h.xdotool("keyup", "shift")
+    tool.wait_idle(60)
+
+
+def shift_click_anchors(doc, view, sm):
+    """Shift+click on the outer equator at A1 and A2 (real keys and button):
+    the preview is the loop through both (the outer equator, where a plain
+    click at A1 gives a meridian); Esc drops a third pending anchor, Enter
+    adds the strip through A1 and A2."""
+    from freecad.stripweave_wb import design_commands, design_tool
+    for o in doc.Objects:   # the first design's stripes lie over the surface (they would take the picks)
+        if o.ViewObject is not None and o.Name.startswith("Design"):
+            o.ViewObject.Visibility = False
+    design = design_commands.new_design(sm)
+    tool = design_tool.start(design)
+    check("Shift+click: tool on a second design", tool.wait_idle(90) and tool.worker is not None)
+    a1, a2 = (13.0, 0.0, 0.0), (9.19, -9.19, 0.0)
+    for a in (a1, a2):
+        shift_click(view, tool, a)
+    check("Shift+click: two anchors pending, no strip yet", len(tool.pending) == 2 and design.StripCount == 0,
+          (tool.pending, design.StripCount, tool.panel.status.text(), tool.panel.proposal.text()))
+    shown = tool.shown_proposal()
+    if check("Shift+click: the loop through both anchors shown", shown is not None and shown.get("exact"),
+             tool.panel.proposal.text()):
+        pts = np.asarray(shown["points"])
+        check("Shift+click: it is the outer equator (z = 0, radius 13)",
+              np.abs(pts[:, 2]).max() < 0.3 and np.abs(np.hypot(pts[:, 0], pts[:, 1]) - 13).max() < 0.3,
+              (float(np.abs(pts[:, 2]).max()), float(np.abs(np.hypot(pts[:, 0], pts[:, 1]) - 13).max())))
+    shot = os.path.join(WORKDIR, "anchors.png")
+    check("screenshot anchors.png", h.save_screenshot(view, shot), shot)
+    shift_click(view, tool, (0.0, -13.0, 0.0))
+    h.key("Escape")
+    tool.wait_idle(10)
+    check("Esc: the pending anchors dropped, the tool still open",
+          tool.pending == [] and design_tool.active_tool() is tool, tool.pending)
+    for a in (a1, a2):
+        shift_click(view, tool, a)
+    h.key("Return")
+    h.wait_until(lambda: tool.add_serial is None, 5)
+    tool.wait_idle(90)
+    check("Enter: one strip through the anchors", design.StripCount == 1, (design.StripCount, design.Status))
+    data = json.loads(design.DesignJson)
+    check("Enter: the strip keeps both anchors", data["strips"] and len(data["strips"][0]["anchors"]) == 2,
+          data["strips"])
+    d = design.Proxy.derived(design)
+    if d is not None and d.strips:
+        pts = np.asarray(d.strips[0]["points"])
+        check("Enter: the strip is the outer equator",
+              np.abs(pts[:, 2]).max() < 0.3 and np.abs(np.hypot(pts[:, 0], pts[:, 1]) - 13).max() < 0.3)
+    h.key("Escape")
+    h.wait_until(lambda: design_tool.active_tool() is None, 5)
+    check("Esc with nothing pending: the tool closed", design_tool.active_tool() is None)
 
 
 def scenario():
@@ -117,6 +179,8 @@ def scenario():
         check("the added strip's loop passes P, tangent within 10 deg of the drag",
               gap < 0.5 and angle_deg(t, anchor[3:]) <= 10.0, (gap, angle_deg(t, anchor[3:])))
     tool.close()
+    h.pump(0.3)
+    shift_click_anchors(doc, view, sm)
     errors = h.tracebacks_in_report_view()
     check("no tracebacks in the report view", not errors, errors[:5])
 

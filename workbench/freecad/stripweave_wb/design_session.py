@@ -188,24 +188,31 @@ class SessionCache:
 
     def proposals(self, point, alternatives=1):
         """What the design tool shows through ``point`` (or through the
-        directional anchor ``point`` = (x, y, z, dx, dy, dz) of a drag): with alternatives
+        directional anchor ``point`` = (x, y, z, dx, dy, dz) of a drag, or
+        through a list of anchors: Shift+click's, each proposal then
+        "exact": adding it adds those anchors): with alternatives
         1 the hover query (the best loop over all directions), else up to
         that many ranked alternatives.  Each is a dict as
         ``LoopSession.describe`` plus ``anchors``: directional anchors on the
         loop (native ``loop_anchor``, the one nearest ``point`` first) from
         which :meth:`add_shown` tries to derive it again.  Interruptible."""
         native = _native()
-        anchor = [float(c) for c in point][:6]
-        point = anchor[:3]   # a directional anchor (x, y, z, dx, dy, dz): a drag (§4.1)
+        several = len(point) > 0 and isinstance(point[0], (list, tuple))
+        anchors = [[float(c) for c in a][:6] for a in (point if several else [point])]
+        point = anchors[0][:3]   # a directional anchor (x, y, z, dx, dy, dz): a drag (§4.1)
 
         def run(ls):
-            if alternatives <= 1 and len(anchor) == 3:
+            if alternatives <= 1 and len(anchors) == 1 and len(anchors[0]) == 3:
                 loops = [ls.native.best_loop(point, True)]
             else:
-                loops = ls.native.loops([anchor], int(alternatives), True)
+                loops = ls.native.loops(anchors, int(alternatives), True)
             out = []
             for loop in loops:
                 d = ls.describe(loop)
+                if several:   # Shift+click's strip: the design searches these anchors again
+                    d["anchors"], d["exact"] = anchors, True
+                    out.append(d)
+                    continue
                 pts = d["points"]
                 samples = [point] + [pts[int(f * len(pts))] for f in ANCHOR_SAMPLES if pts]
                 d["anchors"] = [list(native.loop_anchor(ls.native, loop, list(p))) for p in samples]
