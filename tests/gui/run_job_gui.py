@@ -127,6 +127,49 @@ def cancel_auto_weave(doc, design):
     check("Cancel: the task panel closed", not Gui.Control.activeDialog())
 
 
+def cancel_fit(doc, patches):
+    """A tighter tolerance refits in the background: a real click on Cancel
+    is taken (the result is dropped, Status says so; the native refit has no
+    cancellation point, so it runs to its end first); the tolerance set
+    back, the patches come back."""
+    from freecad.stripweave_wb import tasks
+    faces = len(patches.Shape.Faces)
+    tolerance = json.loads(patches.FitJson)["tolerance"]
+    patches.Tolerance = tolerance / 20   # a fit that takes a while
+    doc.recompute()
+    key = (doc.Name, patches.Name)
+    h.wait_until(lambda: tasks.running(key), 10)
+    running = tasks.running(key)
+    if not check("tolerance changed: the fit runs again in the background", running, patches.Status):
+        return
+    task = running[0]
+    h.wait_until(lambda: task.panel is not None or task.done(), 10)
+    h.pump(0.5)   # the task view swaps dialogs: take the button of this one
+    button = cancel_button()
+    buttons = [b for b in Gui.getMainWindow().findChildren(QtGui.QPushButton)
+               if b.isVisible() and b.text().replace("&", "") == "Cancel"]
+    h.result["info"]["fit_panel"] = [task.panel is not None, task.done(), len(buttons),
+                                     str(Gui.Control.activeDialog()),
+                                     task.panel.form.isVisible() if task.panel is not None else None,
+                                     task.panel.title.text() if task.panel is not None else None]
+    if check("Fit patches: Cancel while fitting", button is not None and not task.done(), task.done()):
+        click_widget(button)
+        h.wait_until(task.done, 10)
+        wait_tasks(30)
+        seconds = task.cancel_seconds()
+        h.result["info"]["fit_cancel_seconds"] = seconds
+        h.result["info"]["fit_task_seconds"] = task.seconds
+        # The native refit has no cancellation point: the Cancel is taken and the result
+        # dropped, but the refit runs to its end (fit_cancel_seconds says how long after).
+        check("Cancel (real click): taken, the refit's result dropped", seconds is not None, seconds)
+        check("Cancel: Status says so", patches.Status.startswith("cancelled"), patches.Status)
+    patches.Tolerance = 0.0
+    doc.recompute()
+    wait_tasks()
+    check("tolerance back: the patches refitted", len(patches.Shape.Faces) == faces and patches.Shape.isValid(),
+          (len(patches.Shape.Faces), patches.Status))
+
+
 def scenario():
     from freecad.stripweave_wb import design_model, layout_model, patches_model, preferences
     from freecad.stripweave_wb.surface_model import is_surface_model
@@ -238,6 +281,8 @@ def scenario():
     doc.redo()
     h.pump(0.3)
     check("Redo: the patches come back", len(patches_model.patches_of(layout)) == 1)
+
+    cancel_fit(doc, patches)
 
     # save, close, reopen
     before = {"design": design.DesignJson, "layout": layout.LayoutJson, "faces": len(shape.Faces),

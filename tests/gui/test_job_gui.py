@@ -1,6 +1,7 @@
 """The main job in FreeCAD's GUI driven by REAL X input (run_job_gui.py):
 Prepare surface, New design, Auto weave (a real click on Cancel stops it
-within 1 s), Show layout, Fit patches, Export STEP through the file dialog,
+within 1 s), Show layout, Fit patches (a Cancel of a refit is taken; the native refit
+itself cannot stop early), Export STEP through the file dialog,
 Undo/Redo, save/close/reopen.  The screenshots (layout.png, patches.png,
 reopened.png) are copied to /tmp/stripweave_job_*.png for a human to look at."""
 
@@ -30,7 +31,9 @@ def test_scenario_passes(gui_run):
 
 
 def test_cancel_within_one_second(gui_run):
-    assert gui_run["result"]["info"]["cancel_seconds"] <= 1.0
+    assert gui_run["result"]["info"]["cancel_seconds"] <= 1.0        # Auto weave
+    # Fit patches: the Cancel is taken, but the native refit has no cancellation point
+    assert gui_run["result"]["info"]["fit_cancel_seconds"] is not None
 
 
 def test_screenshots_saved(gui_run):

@@ -45,13 +45,20 @@ def patches_of(layout):
 
 
 def compute(ds, params, task=None):
-    """On the worker: the refit (native; releases the GIL) with the fitted
-    shape as BRep text and per patch its control points' centre (to match
-    the sewn shell's faces to the patches)."""
-    import numpy as np
-    from stripweave.surfacing import fit_report, refit_design
+    """On the worker: the fit (_fit).  The native refit has no cancellation
+    point: a Cancel is taken at once (the result is dropped, the panel says
+    "cancelling") but the refit runs to its end first."""
     if task is not None:
         task.report(0.1, "fitting B-spline patches and measuring the deviation")
+    return _fit(ds, params)
+
+
+def _fit(ds, params):
+    """The refit (native) with the fitted shape as BRep text and per patch
+    its control points' centre (to match the sewn shell's faces to the
+    patches): plain data, picklable."""
+    import numpy as np
+    from stripweave.surfacing import fit_report, refit_design
     tolerance = params.get("tolerance") or None
     raw = refit_design(ds, tolerance=tolerance, return_brep=True, return_patches=True)
     if not raw.get("brep"):
