@@ -335,6 +335,7 @@ class SessionCache:
     def run(self, fn):
         """``fn(design_session)`` under the lock (no hover query or edit in
         between), for work that reads the derived state: the layout, the fit."""
+        self.interrupt()   # a hover query gives way
         with self.lock:
             self._require()
             self._mask_key = None
@@ -349,6 +350,7 @@ class SessionCache:
         strips).  Returns (WeaveResult, design dict, snapshot)."""
         from stripweave.strips import DesignSession
         from stripweave.weave import auto_weave
+        self.interrupt()   # a hover query gives way
         with self.lock:
             self._require()
             ds = DesignSession(self.surface, self.session.design.copy(), loop_session=self.session.loop_session,
