@@ -348,3 +348,28 @@ def test_an_area_no_single_strip_covers_gets_a_pair():
     assert after["uncovered"]["area"] < a["uncovered"]["area"]
     assert [s.anchors[0].to_list() for s in ds.design.strips[:2]] == given
     assert ds.native.strip_count == 4
+
+
+def test_cancel_event_stops_weaving_at_its_next_step(cube):
+    """WeaveOptions.cancel (a GUI's Cancel): once set, weaving raises Cancelled before its next
+    step, and the design keeps only what was added before; a weave that sets it from another
+    thread after its first strip stops there, long before its budget."""
+    import threading
+    stop = threading.Event()
+    stop.set()
+    ds = DesignSession(cube)
+    with pytest.raises(native.Cancelled):
+        auto_weave(ds, WeaveOptions(cancel=stop))
+    assert ds.design.strips == []
+    later = threading.Event()
+    ds = DesignSession(cube)
+    original = ds.add_strip
+
+    def add_then_cancel(anchors):
+        index = original(anchors)
+        later.set()
+        return index
+    ds.add_strip = add_then_cancel
+    with pytest.raises(native.Cancelled):
+        auto_weave(ds, WeaveOptions(cancel=later))
+    assert len(ds.design.strips) == 1

@@ -113,6 +113,8 @@ class WeaveOptions:
     query_polls: int = 400          # a loop query doing more work is stopped (no proposal there; 0: no cap)
     query_timeout_s: float = 20.0   # a loop query running longer is cancelled (wall-clock safety net)
     verbose: bool = False           # progress on stderr
+    cancel: object = None           # a threading.Event: once set, weaving raises Cancelled at its next step
+                                    # (a GUI's Cancel; with the loop session's cancel() it stops within a step)
 
     def check(self):
         if self.max_strips < 0:
@@ -280,7 +282,13 @@ class _Weaver:
     def why_out(self, elapsed):
         return "work budget" if self.work >= self.options.budget else "time limit (safety net)"
 
+    def check_cancel(self):
+        """Raise Cancelled once options.cancel is set (checked before every step that costs work)."""
+        if self.options.cancel is not None and self.options.cancel.is_set():
+            raise native.Cancelled("automatic weaving cancelled")
+
     def assess(self, extra=(), seeds=True):
+        self.check_cancel()
         self.work += WORK_ASSESS
         return native.weave_assessment(self.ds.native, list(extra), self.options.seeds_per_region if seeds else 0)
 
@@ -297,11 +305,13 @@ class _Weaver:
         """The layout and assessment the design would have with the loop added, under the
         design's current singularities (no field or parameterization solve): one arrangement,
         whose regions give the assessment (_assessment_of)."""
+        self.check_cancel()
         self.work += WORK_PREDICT
         layout = self.ds.native.layout_with([loop])
         return layout, _assessment_of(layout)
 
     def layout(self):
+        self.check_cancel()
         self.work += WORK_LAYOUT
         return _layout(self.ds)
 
@@ -314,6 +324,7 @@ class _Weaver:
         """Loops through the point, best first; when the all-directions query gives nothing in
         time, the best loops along the two principal directions there (one-direction queries
         are fast)."""
+        self.check_cancel()
         found = self._proposals(point, alternatives)
         if not found and len(point) == 3:
             for anchor in native.principal_anchors(self.ds.surface, list(point)):
@@ -363,6 +374,7 @@ class _Weaver:
 
     def add(self, loop, point):
         """Add the loop as one directional anchor; None if the design rejects it."""
+        self.check_cancel()
         anchor = native.loop_anchor(self.session, loop, list(point)[:3])
         if _DEBUG_DESIGN:   # the design about to be derived, for reproducing native failures
             d = self.ds.design.copy()

@@ -17,6 +17,15 @@ file, so a symlinked Mod folder works)::
 
 ``STRIPWEAVE_BUILD`` (as for the ``stripweave`` package) or
 ``STRIPWEAVE_BUILD_DIR`` overrides the build directory.
+
+The main job as macro functions (GUI or ``freecadcmd``; blocking)::
+
+    import freecad.stripweave_wb as wb
+    from freecad.stripweave_wb import layout_model, patches_model
+    wb.auto_weave(design, max_strips=20)            # weave_job.run
+    layout = layout_model.create(design)
+    patches = patches_model.create(layout, tolerance=None)
+    wb.export_step(patches, "out.step")             # patches_model.export_step
 """
 
 import importlib.util
@@ -85,3 +94,20 @@ def setup_hint():
             "packages it needs and builds {}/_stripweave*.so; root or sudo for apt-get), then restart "
             "FreeCAD. Or set STRIPWEAVE_BUILD to a folder holding _stripweave*.so.".format(
                 os.path.join(REPO_ROOT, ".ci", "setup"), build_dir()))
+
+
+# -- the main job as macro functions (headless: blocking; lazy imports) ------------------
+
+def auto_weave(design, **options):
+    """Complete a Design by automatic weaving, keeping its strips (one
+    transaction "Auto weave"); options as stripweave.weave.WeaveOptions.
+    Returns the WeaveResult (log, stopped, assessment, work)."""
+    from . import weave_job
+    return weave_job.run(design, **options)
+
+
+def export_step(patches, path):
+    """Write a Patches object (Fit patches) as STEP and read it back:
+    {"path", "faces", "faces_read_back", "valid", "solids", "shells"}."""
+    from . import patches_model
+    return patches_model.export_step(patches, path)

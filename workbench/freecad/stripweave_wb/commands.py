@@ -136,6 +136,6 @@ def register():
 
 register()
 
-from . import design_commands  # noqa: E402  (registers the design commands)
+from . import design_commands, job_commands  # noqa: E402  (register the design and main-job commands)
 
-COMMANDS = [PREPARE_SURFACE] + design_commands.COMMANDS
+COMMANDS = [PREPARE_SURFACE] + design_commands.COMMANDS + job_commands.COMMANDS

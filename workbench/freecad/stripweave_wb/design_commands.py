@@ -74,15 +74,17 @@ def new_design(surface_model, design=None, name="New design"):
     return obj
 
 
-def _file_dialog(save, title, default_name=""):
+def _file_dialog(save, title, default_name="", file_filter=FILE_FILTER, extension=".json"):
+    """A file name from Qt's own file dialog (the same on every desktop and
+    under Xvfb); ``extension`` is added to a saved name without one."""
     from PySide import QtGui
     start = os.path.join(App.ParamGet("User parameter:BaseApp/Preferences/General").GetString(
         "FileOpenSavePath", os.path.expanduser("~")), default_name)
     fn = QtGui.QFileDialog.getSaveFileName if save else QtGui.QFileDialog.getOpenFileName
-    path = fn(Gui.getMainWindow(), title, start, FILE_FILTER)
+    path = fn(Gui.getMainWindow(), title, start, file_filter, "", QtGui.QFileDialog.DontUseNativeDialog)
     path = path[0] if isinstance(path, tuple) else path
     if path and save and not os.path.splitext(path)[1]:
-        path += ".json"
+        path += extension
     return path or None
 
 

@@ -235,10 +235,15 @@ class DesignModel:
     def publish(self, obj, derived):
         """Write the output properties from a snapshot (Summary last: the
         view provider redraws on it)."""
+        old = self.summary(obj)
+        summary = with_warnings(derived, old.get("fold_overs") if old else None)
+        for line in summary["warnings"]:
+            if line not in old.get("warnings", []):   # said once, in the report view
+                messages.warning("design '{}': {}".format(obj.Label, line))
         obj.Shape = loops_shape(derived.strips)
         obj.StripCount = len(derived.strips)
         obj.Status = status_text(derived)
-        obj.Summary = json.dumps(derived.summary())
+        obj.Summary = json.dumps(summary)
 
     def refresh_outputs(self, obj):
         """Publish the current snapshot if the stored outputs differ from it
@@ -262,6 +267,18 @@ def _loads(text):
         return json.loads(text) if text else None
     except ValueError:
         return None
+
+
+def with_warnings(derived, previous_fold_overs):
+    """The snapshot's summary with "warnings" (feedback.py: empty and sliver
+    strips, fold-overs the last change added)."""
+    from .feedback import mesh_scale, strip_warnings
+    scale = getattr(derived, "_scale", None)
+    if scale is None:
+        scale = derived._scale = mesh_scale(derived.vertices, derived.triangles)
+    summary = derived.summary()
+    summary["warnings"] = strip_warnings(summary, scale[0], scale[1], previous_fold_overs)
+    return summary
 
 
 def status_text(derived):

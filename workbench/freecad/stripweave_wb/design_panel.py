@@ -128,6 +128,8 @@ class DesignPanel:
         error = summary.get("error")
         if error:
             self.set_status("{} (strips after it are not shown; remove or re-import it)".format(error), True)
+        elif summary.get("warnings"):
+            self.set_status("Warning: " + "\nWarning: ".join(summary["warnings"]), True)
         requested = summary.get("requested_strips", len(strips))
         if requested > len(strips):
             for i in range(len(strips), requested):  # the failed strips can be removed too

@@ -187,23 +187,32 @@ class SessionCache:
                     self._querying = False
 
     def proposals(self, point, alternatives=1):
-        """What the design tool shows through ``point``: with alternatives
+        """What the design tool shows through ``point`` (or through the
+        directional anchor ``point`` = (x, y, z, dx, dy, dz) of a drag, or
+        through a list of anchors: Shift+click's, each proposal then
+        "exact": adding it adds those anchors): with alternatives
         1 the hover query (the best loop over all directions), else up to
         that many ranked alternatives.  Each is a dict as
         ``LoopSession.describe`` plus ``anchors``: directional anchors on the
         loop (native ``loop_anchor``, the one nearest ``point`` first) from
         which :meth:`add_shown` tries to derive it again.  Interruptible."""
         native = _native()
-        point = [float(c) for c in point][:3]
+        several = len(point) > 0 and isinstance(point[0], (list, tuple))
+        anchors = [[float(c) for c in a][:6] for a in (point if several else [point])]
+        point = anchors[0][:3]   # a directional anchor (x, y, z, dx, dy, dz): a drag (§4.1)
 
         def run(ls):
-            if alternatives <= 1:
+            if alternatives <= 1 and len(anchors) == 1 and len(anchors[0]) == 3:
                 loops = [ls.native.best_loop(point, True)]
             else:
-                loops = ls.native.loops([point], int(alternatives), True)
+                loops = ls.native.loops(anchors, int(alternatives), True)
             out = []
             for loop in loops:
                 d = ls.describe(loop)
+                if several:   # Shift+click's strip: the design searches these anchors again
+                    d["anchors"], d["exact"] = anchors, True
+                    out.append(d)
+                    continue
                 pts = d["points"]
                 samples = [point] + [pts[int(f * len(pts))] for f in ANCHOR_SAMPLES if pts]
                 d["anchors"] = [list(native.loop_anchor(ls.native, loop, list(p))) for p in samples]
@@ -322,6 +331,38 @@ class SessionCache:
             self.session.add_strip(anchors)
             self.applied_key = design_key(self.session.design, self._features)
             return self.session.design.to_dict(), self._snapshot(None)
+
+    def run(self, fn):
+        """``fn(design_session)`` under the lock (no hover query or edit in
+        between), for work that reads the derived state: the layout, the fit."""
+        self.interrupt()   # a hover query gives way
+        with self.lock:
+            self._require()
+            self._mask_key = None
+            return fn(self.session)
+
+    def weave(self, options, on_session=None):
+        """Complete the design by automatic weaving (stripweave.weave) with
+        ``options`` (a WeaveOptions; its ``cancel`` event stops it) and adopt
+        the result.  The weave runs on a second DesignSession over the same
+        loop engine, so a cancelled or failed weave leaves this cache as it
+        was.  ``on_session(ds)`` gets the weave's DesignSession (to watch its
+        strips).  Returns (WeaveResult, design dict, snapshot)."""
+        from stripweave.strips import DesignSession
+        from stripweave.weave import auto_weave
+        self.interrupt()   # a hover query gives way
+        with self.lock:
+            self._require()
+            ds = DesignSession(self.surface, self.session.design.copy(), loop_session=self.session.loop_session,
+                               features=self._features)
+            self._mask_key = None
+            if on_session is not None:
+                on_session(ds)
+            result = auto_weave(ds, options)
+            self.session = ds
+            self._state_key = state_options_key(ds.design)
+            self.applied_key = design_key(ds.design, self._features)
+            return result, ds.design.to_dict(), self._snapshot(None)
 
     def _require(self):
         if self.session is None:

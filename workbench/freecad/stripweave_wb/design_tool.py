@@ -15,6 +15,13 @@
   click: while it runs, FreeCAD's preselection and selection are off in its
   view (``SelectionSuspended``), and the press and the release of a click
   on the model are both marked handled, so neither selects the part;
+* Shift+click collects anchors for one strip, the preview
+  shows the loop through them (and the cursor), Enter adds it, Esc drops
+  them;
+* a drag from a point on the model (more than CLICK_TOLERANCE_PX) sets a
+  directional anchor there along the drag: the loop through the point in
+  that direction follows the drag live, and the release adds it (as a click
+  adds the loop shown);
 * the task panel lists the strips with Remove buttons, the singularities and
   fold-overs; Close or Esc ends the tool.
 
@@ -32,6 +39,7 @@ Scriptable (tests, macros)::
     tool.wait_idle(); tool.preview_point_count()
     tool.browse(+1); tool.shown_proposal()
     tool.click_screen(x, y) / tool.add_at(point); tool.close()
+    tool.drag_to(point, direction); tool.add_dragged()    # what a drag does
 """
 
 import time
@@ -111,6 +119,13 @@ class _ViewEventFilter(QtCore.QObject):
                 if delta and self._first_sight(event, delta):
                     self.tool.browse(1 if delta < 0 else -1)  # wheel down: next, worse alternative
                 return True
+            if (kind in (QtCore.QEvent.MouseButtonPress, QtCore.QEvent.MouseButtonRelease)
+                    and event.button() == QtCore.Qt.LeftButton and (event.modifiers() & QtCore.Qt.ShiftModifier)):
+                # Shift+click: FreeCAD's navigation styles take Shift+button before the scene
+                # graph would show it to the tool, so it is taken here, on the release.
+                if kind == QtCore.QEvent.MouseButtonRelease and self._first_sight(event, "shift-click"):
+                    self.tool.shift_click_widget(watched, event.pos())
+                return True
             if kind in (QtCore.QEvent.KeyPress, QtCore.QEvent.KeyRelease) and event.key() in BROWSE_KEYS:
                 # FreeCAD's navigation styles zoom on Page Up / Page Down,
                 # some on the release too: both are the tool's while it runs.
@@ -118,7 +133,12 @@ class _ViewEventFilter(QtCore.QObject):
                     self.tool.browse(BROWSE_KEYS[event.key()])
                 return True
             if kind == QtCore.QEvent.KeyPress and event.key() == QtCore.Qt.Key_Escape:
-                QtCore.QTimer.singleShot(0, self.tool.close)
+                if self._first_sight(event, event.key()) and not self.tool.drop_anchors():
+                    QtCore.QTimer.singleShot(0, self.tool.close)
+                return True
+            if kind == QtCore.QEvent.KeyPress and event.key() in (QtCore.Qt.Key_Return, QtCore.Qt.Key_Enter):
+                if self._first_sight(event, event.key()):
+                    self.tool.commit_anchors()
                 return True
         except Exception:
             messages.log("design tool event filter: {}".format(event))
@@ -145,6 +165,9 @@ class DesignTool:
         self.last_error = None
         self._seen_json = obj.DesignJson
         self._press = None
+        self._press_point = None      # the surface point under the press
+        self.drag_anchor = None       # (x, y, z, dx, dy, dz) while dragging
+        self.pending = []             # Shift+click's anchors of the strip being made (Enter adds it)
         self._callbacks = []
         self._filter = _ViewEventFilter(self)
         self._filtered = []
@@ -238,7 +261,38 @@ class DesignTool:
     # -- input ---------------------------------------------------------------------------
     def _on_move(self, event_cb):
         pos = event_cb.getEvent().getPosition()
-        self.hover_screen(int(pos[0]), int(pos[1]))
+        x, y = int(pos[0]), int(pos[1])
+        if self._press is not None and (abs(x - self._press[0]) > CLICK_TOLERANCE_PX
+                                        or abs(y - self._press[1]) > CLICK_TOLERANCE_PX):
+            event_cb.setHandled()
+            self.drag_screen(x, y)
+            return
+        self.hover_screen(x, y)
+
+    def drag_screen(self, x, y):
+        """A drag from the press point to (x, y): the loop through the press
+        point along the drag (a directional anchor, paper §4.1), shown live;
+        the release adds it.  Returns the anchor or None (cursor off the model)."""
+        point = self.pick(x, y)
+        start = self._press_point
+        if point is None or start is None or self.closed:
+            return None
+        direction = np.subtract(point, start)
+        norm = float(np.linalg.norm(direction))
+        if norm <= 0.0:
+            return None
+        return self.drag_to(start, direction / norm)
+
+    def drag_to(self, start, direction):
+        """Show the loop through surface point ``start`` along ``direction``."""
+        self.point = tuple(float(c) for c in start)
+        self.drag_anchor = self.point + tuple(float(c) for c in direction)
+        self.index = self.want_index = 0
+        self.alternatives_requested = False
+        self.proposals = []
+        if self.worker is not None and not self.closed:
+            self.proposal_serial = self.worker.propose("best", self.drag_anchor)
+        return self.drag_anchor
 
     def _on_button(self, event_cb):
         """A left click that starts on the model belongs to the tool: its
@@ -252,21 +306,32 @@ class DesignTool:
         pos = ev.getPosition()
         x, y = int(pos[0]), int(pos[1])
         if ev.getState() == coin.SoButtonEvent.DOWN:
-            self._press = (x, y) if self.pick(x, y) is not None else None
+            self._press_point = self.pick(x, y)
+            self._press = (x, y) if self._press_point is not None else None
+            self.drag_anchor = None
             if self._press is not None:
                 event_cb.setHandled()
         elif ev.getState() == coin.SoButtonEvent.UP and self._press is not None:
             px, py = self._press
             self._press = None
             event_cb.setHandled()
-            if abs(x - px) <= CLICK_TOLERANCE_PX and abs(y - py) <= CLICK_TOLERANCE_PX:
+            clicked = abs(x - px) <= CLICK_TOLERANCE_PX and abs(y - py) <= CLICK_TOLERANCE_PX
+            shift = ev.wasShiftDown() or bool(QtGui.QApplication.keyboardModifiers() & QtCore.Qt.ShiftModifier)
+            if shift:
+                anchor = self.pick(x, y) if clicked else self.drag_anchor
+                if anchor is not None:
+                    self.add_anchor(anchor)
+            elif clicked:
                 self.click_screen(x, y)
+            elif self.drag_anchor is not None:
+                self.add_dragged()
 
     def _on_key(self, event_cb):
         ev = event_cb.getEvent()
         if coin.SoKeyboardEvent.isKeyPressEvent(ev, coin.SoKeyboardEvent.ESCAPE):
             event_cb.setHandled()
-            QtCore.QTimer.singleShot(0, self.close)  # not inside the scene traversal
+            if not self.drop_anchors():
+                QtCore.QTimer.singleShot(0, self.close)  # not inside the scene traversal
 
     def pick(self, x, y):
         """The point of the model under screen position (x, y) (Coin
@@ -298,6 +363,7 @@ class DesignTool:
     def hover_point(self, point):
         """Propose the best loop through ``point`` (a surface point)."""
         self.point = tuple(float(c) for c in point)
+        self.drag_anchor = None
         self.index = self.want_index = 0
         self.alternatives_requested = False
         self.proposals = []
@@ -329,12 +395,77 @@ class DesignTool:
             return False
         shown = self.shown_proposal() if self._near(point) else None
         self.add_base = obj.DesignJson
-        if shown is not None:
+        if shown is not None and shown.get("exact"):
+            self.add_serial = self.worker.add_strip(shown["anchors"])
+            self.pending = []
+        elif shown is not None:
             self.add_serial = self.worker.add_strip(shown["anchors"], shown=shown["points"])
         else:
             self.add_serial = self.worker.add_strip([list(map(float, point))])
         self.panel.set_busy(True)
         self.panel.set_status("adding the strip ...")
+        return True
+
+    def shift_click_widget(self, widget, pos):
+        """Shift+click at Qt position ``pos`` of the viewport ``widget``: the
+        point there becomes one more anchor (Coin counts device pixels from
+        the bottom left)."""
+        dpr = widget.devicePixelRatioF() if hasattr(widget, "devicePixelRatioF") else 1.0
+        height = self.view.getSize()[1]
+        point = self.pick(int(round(pos.x() * dpr)), int(round(height - 1 - pos.y() * dpr)))
+        return self.add_anchor(point) if point is not None else None
+
+    def add_anchor(self, anchor):
+        """Shift+click: one more anchor for the strip being made; the
+        preview shows the loop through all of them."""
+        self.pending.append([float(c) for c in anchor])
+        self.point = tuple(self.pending[-1][:3])
+        self.drag_anchor = None
+        self.index = self.want_index = 0
+        self.alternatives_requested = False
+        self.proposals = []
+        self.panel.set_status("{} anchor{} for the next strip: Shift+click adds more, Enter adds the strip, "
+                              "Esc drops them".format(len(self.pending), "" if len(self.pending) == 1 else "s"))
+        self._propose()
+        return len(self.pending)
+
+    def commit_anchors(self):
+        """Enter: add the strip through the Shift+click anchors."""
+        obj = self.obj()
+        if not self.pending or self.worker is None or obj is None or self.add_serial is not None:
+            return False
+        self.add_base = obj.DesignJson
+        self.add_serial = self.worker.add_strip([list(a) for a in self.pending])
+        self.pending = []
+        self.panel.set_busy(True)
+        self.panel.set_status("adding the strip through the anchors ...")
+        return True
+
+    def drop_anchors(self):
+        """Esc with anchors pending drops them (a second Esc ends the tool)."""
+        if not self.pending:
+            return False
+        self.pending = []
+        self.proposals = []
+        self.preview.clear()
+        self.panel.set_status("anchors dropped")
+        return True
+
+    def add_dragged(self):
+        """The release of a drag: add the loop shown along it (once its
+        query has answered; before that, the directional anchor itself)."""
+        obj = self.obj()
+        if self.worker is None or obj is None or self.add_serial is not None or self.drag_anchor is None:
+            return False
+        shown = self.shown_proposal()
+        self.add_base = obj.DesignJson
+        if shown is not None:
+            self.add_serial = self.worker.add_strip(shown["anchors"], shown=shown["points"])
+        else:
+            self.add_serial = self.worker.add_strip([list(self.drag_anchor)])
+        self.drag_anchor = None
+        self.panel.set_busy(True)
+        self.panel.set_status("adding the strip along the drag ...")
         return True
 
     def shown_proposal(self):
@@ -425,10 +556,14 @@ class DesignTool:
             return
         if derive_async.pending(self.obj()):
             return  # the session is catching up with the design; _ready proposes again
+        where = self.drag_anchor if self.drag_anchor is not None else self.point
+        if self.pending:   # the strip being made: its anchors, and the cursor's unless it is the last one
+            extra = [] if tuple(self.pending[-1][:3]) == tuple(where[:3]) else [list(where)]
+            where = tuple(tuple(a) for a in self.pending + extra)
         if self.alternatives_requested:
-            self.proposal_serial = self.worker.propose("alternatives", self.point, ALTERNATIVES)
+            self.proposal_serial = self.worker.propose("alternatives", where, ALTERNATIVES)
         else:
-            self.proposal_serial = self.worker.propose("best", self.point)
+            self.proposal_serial = self.worker.propose("best", where)
 
     def _show(self):
         if not self.proposals:

@@ -9,6 +9,7 @@ Parameters (``User parameter:BaseApp/Preferences/Mod/StripWeave``)::
                              library's own (a fraction of the part's size)
     BoundaryMode     string  how a New design's dual curves meet open boundaries:
                              "aligned" or "trimmed"
+    AutoWeaveMaxStrips int   strips at most after Auto weave (the user's included; 40)
 
 Readers take these at the moment a command runs (no caching), so a change on
 the page applies to the next command.  No Qt at import: the page class is
@@ -22,6 +23,7 @@ DEFAULT_TARGET_TRIANGLES = 30000
 DEFAULT_FEATURE_ANGLE_DEG = 30.0
 DEFAULT_TOLERANCE = 0.0
 BOUNDARY_MODES = ("aligned", "trimmed")
+DEFAULT_AUTO_WEAVE_MAX_STRIPS = 40
 
 
 def group():
@@ -47,9 +49,15 @@ def boundary_mode():
     return mode if mode in BOUNDARY_MODES else BOUNDARY_MODES[0]
 
 
-def save(target_triangles=None, feature_angle=None, tolerance=None, boundary_mode=None):
+def auto_weave_max_strips():
+    return max(1, int(group().GetInt("AutoWeaveMaxStrips", DEFAULT_AUTO_WEAVE_MAX_STRIPS)))
+
+
+def save(target_triangles=None, feature_angle=None, tolerance=None, boundary_mode=None, max_strips=None):
     """Write the given defaults (None: leave as is)."""
     g = group()
+    if max_strips is not None:
+        g.SetInt("AutoWeaveMaxStrips", int(max_strips))
     if target_triangles is not None:
         g.SetInt("TargetTriangles", int(target_triangles))
     if feature_angle is not None:
@@ -91,20 +99,25 @@ def _page_class():
             self.boundary = QtGui.QComboBox()
             self.boundary.setObjectName("BoundaryMode")
             self.boundary.addItems(list(BOUNDARY_MODES))
+            self.max_strips = QtGui.QSpinBox()
+            self.max_strips.setObjectName("AutoWeaveMaxStrips")
+            self.max_strips.setRange(1, 1000)
             layout.addRow("Target triangles (Prepare surface)", self.triangles)
             layout.addRow("Feature angle", self.angle)
             layout.addRow("Patch fitting tolerance", self.tolerance)
             layout.addRow("Boundary mode (New design)", self.boundary)
+            layout.addRow("Strips at most (Auto weave)", self.max_strips)
 
         def loadSettings(self):
             self.triangles.setValue(target_triangles())
             self.angle.setValue(feature_angle())
             self.tolerance.setValue(tolerance() or 0.0)
             self.boundary.setCurrentIndex(BOUNDARY_MODES.index(boundary_mode()))
+            self.max_strips.setValue(auto_weave_max_strips())
 
         def saveSettings(self):
             save(self.triangles.value(), self.angle.value(), self.tolerance.value(),
-                 self.boundary.currentText())
+                 self.boundary.currentText(), self.max_strips.value())
 
     return PreferencesPage
 
