@@ -1,5 +1,5 @@
 """View provider of the Layout object: the patches tinted on the refined
-mesh (a pastel per patch; red, orange and yellow regions in their colours,
+mesh (a pastel per patch; red, crease, orange and yellow regions in their colours,
 §4.2), the layout's edges as dark lines, its vertices as dots (irregular
 ones larger) and its defects as red crosses.
 
@@ -12,7 +12,8 @@ come from the stored LayoutJson until the next recompute.
 from . import messages
 from .proxy_state import StatelessViewProvider
 
-REGION_TINTS = {"red": (0.95, 0.25, 0.2), "orange": (1.0, 0.6, 0.15), "yellow": (0.98, 0.9, 0.25)}
+REGION_TINTS = {"red": (0.95, 0.25, 0.2), "orange": (1.0, 0.6, 0.15), "yellow": (0.98, 0.9, 0.25),
+                "crease": (0.2, 0.7, 0.85)}   # as in preview.png
 # Pastel patch tints, chosen so neighbours usually differ.
 PATCH_TINTS = ((0.72, 0.83, 0.95), (0.78, 0.92, 0.78), (0.93, 0.85, 0.72), (0.86, 0.78, 0.93),
                (0.75, 0.9, 0.9), (0.92, 0.8, 0.85))
@@ -25,8 +26,8 @@ ROOT_NODE = "StripWeaveLayout"
 
 
 def triangle_tints(mesh):
-    """Per refined triangle its colour: the region's when red, orange or
-    yellow, else its patch's pastel (grey outside every patch)."""
+    """Per refined triangle its colour: the region's when red, crease, orange
+    or yellow, else its patch's pastel (grey outside every patch)."""
     out = []
     patches = mesh["patch"]
     for t, colour in enumerate(mesh["colour"]):
