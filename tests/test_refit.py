@@ -235,6 +235,38 @@ def test_user_tolerance_and_options(cube_fit):
         refit_design(ds, no_such_option=1)
 
 
+def test_refit_reports_stages_and_stops_on_cancel(cube_fit):
+    """The workbench's Cancel of Fit patches (issue 20): a Progress passed to the refit sees
+    its stages, and a cancelled one stops it with Cancelled at the next stage or patch."""
+    import threading
+    ds, _, _ = cube_fit
+    progress = sw.Progress()
+    r = refit_design(ds, progress=progress)
+    assert r["tolerance_met"] and progress.fraction() == pytest.approx(0.93, abs=1e-9)
+    assert progress.stage() == "sewing the shell"
+    stopped = sw.Progress()
+    stopped.cancel()
+    with pytest.raises(sw.Cancelled):
+        refit_design(ds, progress=stopped)
+    # Cancelled from another thread while the fit runs: it ends with Cancelled, not a result.
+    running, outcome = sw.Progress(), {}
+
+    def fit():
+        try:
+            outcome["result"] = refit_design(ds, progress=running)
+        except sw.Cancelled:
+            outcome["cancelled"] = True
+    worker = threading.Thread(target=fit)
+    worker.start()
+    while running.fraction() < 0.1 and worker.is_alive():
+        threading.Event().wait(0.001)
+    at_cancel = running.fraction()
+    running.cancel()
+    worker.join(60)
+    if at_cancel < 0.9:            # before the last stage: a check lies ahead, so it must stop
+        assert outcome == {"cancelled": True}
+
+
 def test_refit_same_on_one_and_two_cores():
     """The refit solves independent patches side by side on the cores the process may use
     (core/parallel.h): the result must not depend on how many that is. The lofted part's

@@ -10,6 +10,8 @@
 //                           "vertices": (n,3), "triangles": (m,3),
 //                           "corners": [4 ints], "source_face": (m,) (optional)}]}
 //   tolerance: model units (None: 1e-3 of the model's bbox diagonal).
+//   progress: an optional Progress: the fit reports its stages to it, and its
+//   cancel() stops the fit with Cancelled (FitOptions::progress).
 //   Keyword options (FitOptions): relative_tolerance, initial_spans,
 //   max_spans, smoothing, seam_weight, seam_mode ('tangent' | 'c1'), tangent_rounds, edge_density, edge_smoothing, parameter_corrections, edge_snap, seam_from,
 //   seam_to, crease_angle_deg, vertex_tangent_planes, deviation_spacing and
@@ -215,6 +217,7 @@ FitOptions options_from(const py::kwargs& kw) {
     else if (key == "vertex_tangent_planes") o.vertex_tangent_planes = py::cast<bool>(v);
     else if (key == "deviation_spacing") o.deviation.spacing = py::cast<double>(v);
     else if (key == "deviation_chord") o.deviation.chord = py::cast<double>(v);
+    else if (key == "progress") o.progress = v.is_none() ? nullptr : py::cast<Progress*>(v);
     else throw InputError("refit: unknown option '" + key + "'");
   }
   return o;

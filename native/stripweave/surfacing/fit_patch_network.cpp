@@ -137,6 +137,14 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
   const double diag = network.bbox_diagonal > 0 ? network.bbox_diagonal : 1.0;
   const double tol = options.tolerance > 0 ? options.tolerance : options.relative_tolerance * diag;
   report.tolerance = tol;
+  // Stages for the GUI's progress; Cancelled from a cancel() (FitOptions::progress).
+  auto checkpoint = [&](const char* stage, double begin, double end) {
+    if (options.progress) options.progress->stage(stage, begin, end);
+  };
+  auto check = [&]() {
+    if (options.progress) options.progress->check();
+  };
+  checkpoint("parameterizing the patches", 0.0, 0.1);
 
   // --- the network's incidences and consistency ---------------------------
   for (Index e = 0; e < nE; ++e) {
@@ -188,6 +196,7 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
     }
   }
   watch.lap("parameterize");
+  checkpoint("sampling the source", 0.1, 0.3);
 
   // --- 2. samples on the source --------------------------------------------
   const SourceProjector projector(surface, options.edge_snap * diag);
@@ -317,6 +326,7 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
   if (projector.exact())
     for (auto& w : worker_projectors) w = projector.thread_copy();
   parallel_for_workers(nP, [&](Index p, unsigned worker) {
+    check();
     const SourceProjector& own = worker_projectors[worker] ? *worker_projectors[worker] : projector;
     own.forget_warm_starts();
     const NetworkPatch& P = network.patches[p];
@@ -377,6 +387,7 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
     }
   }, sample_workers);
   watch.lap("sample");
+  checkpoint("fitting B-spline patches", 0.3, 0.6);
 
   // --- 3. strips and adaptive refinement -----------------------------------
   Strips strips(nE);
@@ -562,6 +573,7 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
   const int kMaxRounds = 40;
   for (int outer = 0; outer < 3; ++outer) {
     do {
+      check();
       fit_round();
       ++report.rounds;
     } while (report.rounds < kMaxRounds && refine());
@@ -601,7 +613,10 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
         fit_patch_interiors(result.surfaces, fit_samples, {}, {}, options.smoothing, 0, targets, options.seam_weight);
       }
     }
-    parallel_for(nP, [&](Index p) { measure(result.surfaces, p, neighbours[p], samples[p], enough, report.per_patch[p]); });
+    parallel_for(nP, [&](Index p) {
+      check();
+      measure(result.surfaces, p, neighbours[p], samples[p], enough, report.per_patch[p]);
+    });
     // If the coupling pushed a patch over tolerance, refine and go again,
     // from the uncoupled fits: a round refits only the patches whose spans
     // changed, and the others must not keep their coupled interiors: a
@@ -636,6 +651,7 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
     break;
   }
   watch.lap("fit");
+  checkpoint("reporting", 0.6, 0.62);
 
   // --- 5. report ------------------------------------------------------------
   // Per patch: its edge curves, creases of the layout under it, and where
@@ -675,8 +691,10 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
   for (Index e = 0; e < nE; ++e)
     if (!uses[e].empty()) report.max_edge_deviation = std::max(report.max_edge_deviation, edge_dev[e]);
   watch.lap("report");
+  checkpoint("measuring the deviation both ways", 0.62, 0.9);
   report_deviation(surface, result.surfaces, options, report);
   watch.lap("deviation");
+  checkpoint("measuring the seams", 0.9, 0.93);
 
   // Regular vertices: exactly 4 smooth seams meet there.
   std::vector<Index> valence(nV, 0);
@@ -712,6 +730,7 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
     }
   }
   watch.lap("measure");
+  checkpoint("sewing the shell", 0.93, 1.0);
 
   if (options.build_shell) {
     ShellFigures fig;

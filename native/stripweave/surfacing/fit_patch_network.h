@@ -71,6 +71,8 @@
 //         than two patch sides, ...).
 #pragma once
 
+#include "stripweave/core/progress.h"
+
 #include "stripweave/core/stopwatch.h"
 #include "stripweave/surface/surface.h"
 #include "stripweave/surfacing/bspline.h"
@@ -108,6 +110,10 @@ struct FitOptions {
   double crease_angle_deg = 30;      // a dihedral above this inside a patch is a crease (patch_creases.h)
   bool build_shell = true;
   DeviationOptions deviation;        // how the reported deviation is measured (fit_deviation.h)
+  // Optional: the stages are reported to it and its cancel() stops the fit
+  // (Cancelled is thrown at the next stage or patch, within about a patch's
+  // fit): the workbench's Cancel. Not owned.
+  Progress* progress = nullptr;
 };
 
 // The coverage tolerance_met asks for.

@@ -45,22 +45,26 @@ def patches_of(layout):
 
 
 def compute(ds, params, task=None):
-    """On the worker: the fit (_fit).  The native refit has no cancellation
-    point: a Cancel is taken at once (the result is dropped, the panel says
-    "cancelling") but the refit runs to its end first."""
+    """On the worker: the fit (_fit).  The native refit reports its stages to a
+    Progress the panel polls, and Cancel stops it at the next stage or patch."""
+    progress = None
     if task is not None:
-        task.report(0.1, "fitting B-spline patches and measuring the deviation")
-    return _fit(ds, params)
+        from . import import_stripweave
+        progress = import_stripweave().Progress()
+        task.cancel_hooks.append(progress.cancel)
+        task.progress_fn = lambda: (progress.fraction(), progress.stage())
+        task.report(0.0, "fitting B-spline patches")
+    return _fit(ds, params, progress)
 
 
-def _fit(ds, params):
+def _fit(ds, params, progress=None):
     """The refit (native) with the fitted shape as BRep text and per patch
     its control points' centre (to match the sewn shell's faces to the
     patches): plain data, picklable."""
     import numpy as np
     from stripweave.surfacing import fit_report, refit_design
     tolerance = params.get("tolerance") or None
-    raw = refit_design(ds, tolerance=tolerance, return_brep=True, return_patches=True)
+    raw = refit_design(ds, tolerance=tolerance, return_brep=True, return_patches=True, progress=progress)
     if not raw.get("brep"):
         from . import import_stripweave
         raise import_stripweave().InputError("the fit gave no shell (no patch could be sewn)")
