@@ -19,7 +19,7 @@ constexpr double kEqualMoments = 0.02;
 // Directions closer than this (radians, either sign) are one candidate.
 constexpr double kSameDirection = 1e-3;
 constexpr std::size_t kScreenSamples = 256;
-constexpr std::size_t kRefineSamples = 1500;
+constexpr std::size_t kRefineSamples = 1000, kQuickSamples = 250;
 // A candidate this close in direction (radians) to an accepted symmetry of the
 // same kind and order is that symmetry seen from another pair of points.
 constexpr double kNearDirection = 0.035;
@@ -121,12 +121,20 @@ bool same_symmetry(const Symmetry& a, const Symmetry& b) {
 
 // Screen, refine and verify one candidate; true with `out` filled when accepted.
 bool verify(const Symmetry& candidate, const std::vector<Vec3>& screen, const std::vector<Vec3>& refine,
-            const std::vector<Vec3>& all, const SurfaceLocator& locator, double tolerance, Symmetry& out) {
+            const std::vector<Vec3>& all, const SurfaceLocator& locator, double tolerance, Symmetry& out,
+            std::vector<Symmetry>& refined) {
   // The candidate is approximate (moments of a mesh, feature points): screen
   // loosely, then refine and judge strictly.
   const double loose = std::max(20.0 * tolerance, 0.02);
   if (!symmetry_error(candidate, screen, locator, loose).complete) return false;
-  Symmetry s = refine_symmetry(candidate, refine, locator);
+  refined.push_back(candidate);
+  // A few cheap steps first: most candidates that pass the loose screen are
+  // near-symmetries that stay well off (a scan almost mirror-symmetric), and
+  // each refinement step costs a query per sample.
+  const std::vector<Vec3> few(refine.begin(), refine.begin() + std::min<std::size_t>(refine.size(), kQuickSamples));
+  Symmetry s = refine_symmetry(candidate, few, locator, 3);
+  if (!symmetry_error(s, screen, locator, 5.0 * tolerance).complete) return false;
+  s = refine_symmetry(s, refine, locator);
   if (!symmetry_error(s, screen, locator, 2.0 * tolerance).complete) return false;
   const SymmetryError e = symmetry_error(s, all, locator);
   if (e.max > tolerance) return false;
@@ -165,22 +173,28 @@ std::vector<Symmetry> detect_symmetries(const Surface& surface, const SymmetryOp
   std::stable_sort(screen.begin(), screen.end(), [&](const Vec3& a, const Vec3& b) {
     return (a - m.centroid).squaredNorm() > (b - m.centroid).squaredNorm();
   });
+  // Refined candidates, accepted or not: a nearby candidate (another pair of
+  // salient points on the same near-symmetry) refines to the same map.
+  std::vector<Symmetry> refined;
   const auto known = [&](const Symmetry& candidate) {
     return std::any_of(found.begin(), found.end(), [&](const Symmetry& f) {
-      return f.order % candidate.order == 0 && same_symmetry(f, candidate);
-    });
+             return f.order % candidate.order == 0 && same_symmetry(f, candidate);
+           }) ||
+           std::any_of(refined.begin(), refined.end(), [&](const Symmetry& f) {
+             return f.order == candidate.order && same_symmetry(f, candidate);
+           });
   };
   for (const Vec3& d : candidate_directions(surface, m, options)) {
     Symmetry s;
     const Symmetry mirror = Symmetry::reflection(m.centroid, d);
-    if (!known(mirror) && verify(mirror, screen, refine, all, locator, options.tolerance, s)) keep(found, s);
+    if (!known(mirror) && verify(mirror, screen, refine, all, locator, options.tolerance, s, refined)) keep(found, s);
     // The maximal order first: a lower order that divides it adds nothing.
     std::vector<int> accepted;
     for (int n = options.max_order; n >= 2; --n) {
       if (std::any_of(accepted.begin(), accepted.end(), [&](int k) { return k % n == 0; })) continue;
       const Symmetry rotation = Symmetry::rotation(m.centroid, d, n);
       if (known(rotation)) continue;
-      if (verify(rotation, screen, refine, all, locator, options.tolerance, s)) {
+      if (verify(rotation, screen, refine, all, locator, options.tolerance, s, refined)) {
         accepted.push_back(n);
         keep(found, s);
       }

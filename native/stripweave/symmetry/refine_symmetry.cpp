@@ -60,17 +60,24 @@ Symmetry refine_symmetry(const Symmetry& candidate, const std::vector<Vec3>& sam
                          int iterations) {
   Symmetry s = candidate;
   if (samples.size() < 3) return s;
+  Symmetry best = s;
+  double best_rms = std::numeric_limits<double>::infinity();
   for (int it = 0; it < iterations; ++it) {
     const SymmetryError e = symmetry_error(s, samples, locator, std::numeric_limits<double>::infinity(), true);
-    // Pair each sample with the preimage of its image's closest point: psi(p) ~ q
-    // means p ~ psi^-1(q), and fitting p <-> q directly gives the map itself.
+    // ICP only ever approaches a nearby symmetry: a step that does not lower
+    // the error by 1% means there is none here (or it is reached).
+    if (!(e.rms < 0.99 * best_rms)) break;
+    best = s;
+    best_rms = e.rms;
+    // Pair each sample with the closest surface point to its image: fitting
+    // p -> q gives the map itself.
     const Symmetry next = s.kind == SymmetryKind::Reflection ? refit_reflection(s, samples, e.closest)
                                                              : refit_rotation(s, samples, e.closest);
     const double moved = (next.point - s.point).norm() + (next.direction - s.direction).norm();
     s = next;
-    if (moved < 1e-10) break;
+    if (moved < 1e-10) return s;
   }
-  return s;
+  return best;
 }
 
 }  // namespace stripweave

@@ -12,7 +12,9 @@
 //     rotation's fixed direction) and a point on it (least squares of
 //     (I - R) x = t); the order stays (the angle is 2 pi / order by
 //     definition, only the axis is fitted).
-//   Stops when the map moves less than 1e-10 or after `iterations` steps.
+//   Stops when the map moves less than 1e-10, when a step lowers the RMS
+//   error by less than 1% (the best map so far is returned), or after
+//   `iterations` steps.
 // Why: the area centroid of a mesh whose two halves are triangulated
 // differently is off by the meshing error of curved parts; ICP removes that
 // bias, so a mirrored part's plane is found to ~1e-6 of the diagonal.
