@@ -162,6 +162,34 @@ def test_design_symmetry_round_trips(tmp_path):
         Design.load(path)
 
 
+@pytest.fixture(scope="module")
+def woven_mirrored(mirrored, tmp_path_factory):
+    out = tmp_path_factory.mktemp("sym")
+    return sw.weave(mirrored, out=str(out), symmetry="auto", max_strips=12), out
+
+
+def test_symmetric_weave_mirrors_every_loop(woven_mirrored, mirrored):
+    result, out = woven_mirrored
+    diagonal = mirrored.bbox_diagonal
+    sym = result["symmetry"]
+    assert len(sym) == 1 and sym[0]["kind"] == "reflection" and sym[0]["source"] == "detected"
+    assert result["strips"] >= 2 and result["valid"]
+    images = [s for s in Design.load(out / "design.json").strips if "image_of" in s.extra]
+    assert images                      # strips off the plane came with their mirror images
+    from stripweave.strips import DesignSession
+    from stripweave.symmetry import symmetric_surface
+    solver = result["surface"]         # the solver mesh made symmetric (one half mirrored)
+    assert native.measure_symmetry(solver, sym[0])["max_error"] <= 1e-9 * diagonal
+    ds = DesignSession(symmetric_surface(mirrored, sym), Design.load(out / "design.json"))
+    loops = [s["points"] for s in ds.strips()]
+    assert loops_symmetry_error(loops, sym[0]) <= 1e-3 * diagonal
+    assert sym[0]["loops_max_error"] <= 1e-3 * diagonal
+    report = json.loads((out / "report.json").read_text())
+    assert report["symmetry"][0]["kind"] == "reflection"
+    saved = json.loads((out / "design.json").read_text())
+    assert saved["symmetry"][0]["source"] == "detected"
+
+
 def test_cli_info_and_weave_take_symmetry(tmp_path):
     path = tmp_path / "m.brep"
     mirrored_box().exportBrep(str(path))

@@ -10,6 +10,8 @@
 //   with its rms_error and max_error on the surface (symmetry_error.h).
 // anchor_images(surface, dict, anchor) -> [[x,y,z(,dx,dy,dz)], ...]: the
 //   anchor's images under psi^1 .. psi^(n-1), re-projected (anchor_images.h).
+// symmetric_surface(surface, dict) -> Surface: the solver mesh made exactly
+//   symmetric under a reflection (symmetric_surface.h).
 // map_points(dict, points, k=1) -> (n, 3) array: psi^k of the points.
 // image_distance(dict, k, a, b) -> one-sided distance of psi^k(a) from the
 //   polyline b (image_distance.h), model units.
@@ -19,6 +21,7 @@
 #include "stripweave/symmetry/anchor_images.h"
 #include "stripweave/symmetry/detect_symmetries.h"
 #include "stripweave/symmetry/image_distance.h"
+#include "stripweave/symmetry/symmetric_surface.h"
 #include "stripweave/symmetry/symmetry_error.h"
 
 #include <pybind11/numpy.h>
@@ -128,6 +131,13 @@ void bind_symmetry(py::module_& m) {
         return out;
       }, py::arg("surface"), py::arg("symmetry"), py::arg("anchor"),
       "The anchor's images on the other parts, re-projected onto the surface");
+
+  m.def("symmetric_surface", [](const Surface& s, const py::dict& d) {
+        const Symmetry sym = normalized(s, symmetry_of(d));
+        py::gil_scoped_release release;
+        return std::make_shared<Surface>(symmetric_surface(s, sym));
+      }, py::arg("surface"), py::arg("reflection"),
+      "The surface with its solver mesh made exactly symmetric under the reflection (one half mirrored)");
 
   m.def("map_points", [](const py::dict& d, const py::handle& points, int k) {
         const Symmetry sym = symmetry_of(d);

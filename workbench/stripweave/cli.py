@@ -73,9 +73,11 @@ def _surface_options_for(args, design):
 
 def _design_session(args, surface, design):
     from .strips import DesignSession
+    from .symmetry import symmetric_surface
     if args.boundary is not None:
         design.options["boundary"] = args.boundary
-    return DesignSession(surface, design)
+    # A symmetric design was derived on the symmetric solver mesh (weave --symmetry).
+    return DesignSession(symmetric_surface(surface, design.symmetry or ()), design)
 
 
 def cmd_loop(args):

@@ -171,7 +171,7 @@ def _releasing_locks(run):
 @_releasing_locks
 def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, features=True, boundary=None,
           seed=0, step=False, tolerance=None, verbose=False, progress=None, target_triangles=30000,
-          feature_angle_deg=None, preview=True, symmetry=None, symmetry_tolerance=1e-3, _locks=None,
+          feature_angle_deg=None, preview=True, symmetry=None, symmetry_tolerance=1e-3, symmetric_mesh=True, _locks=None,
           **weave_options):
     """Weave a quad layout on a model; see the module doc.
 
@@ -187,7 +187,9 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
     step        also fit patches and write patches.step (needs the surfacing stage)
     symmetry    "auto" (detect), "none", a symmetry dict or list of them (symmetry.py), or None
                 (the design's "symmetry", else none): every strip weaving adds comes with its
-                images (paper §5.8); symmetry_tolerance: the error accepted, in diagonals
+                images (paper §5.8); symmetry_tolerance: the error accepted, in diagonals;
+                symmetric_mesh: weave on a solver mesh made exactly symmetric under the
+                reflections (symmetry.symmetric_surface)
     """
     timings = {}
     clock = time.perf_counter()
@@ -228,6 +230,9 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
     lap("symmetry")
     if symmetries:
         say(f"symmetry: {', '.join(_describe(x) for x in symmetries)}")
+        if symmetric_mesh:
+            from .symmetry import symmetric_surface
+            surface = symmetric_surface(surface, symmetries)
     say(f"{len(surface.triangles)} triangles; building the elastica graph")
     from .loops import LoopSession
     loop_session = LoopSession(surface, progress=progress, **design.loop_options())
@@ -238,7 +243,8 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
     log, stopped, work, cancelled = [], "not asked (auto off)", 0.0, 0
     if auto:
         result = auto_weave(ds, WeaveOptions(max_strips=max_strips, patches=patches, seed=seed, verbose=verbose,
-                                             symmetry=tuple(symmetries), **weave_options))
+                                             symmetry=tuple(symmetries), symmetry_tolerance=symmetry_tolerance,
+                                             **weave_options))
         log, stopped, work, cancelled = result.log, result.stopped, result.work, result.cancelled_queries
     lap("weave")
     say("primal layout")

@@ -102,11 +102,21 @@ def resolve(surface, spec, design_symmetry=None, tolerance=1e-3):
     return out
 
 
+def symmetric_surface(surface, symmetries):
+    """The surface with its solver mesh made exactly symmetric under each reflection in turn
+    (native symmetric_surface: one half cut at the plane and mirrored), so that a strip's
+    image is the image of its loop on the graph too. Rotations keep the mesh as it is."""
+    for sym in symmetries:
+        if sym["kind"] == "reflection":
+            surface = native.symmetric_surface(surface, sym)
+    return surface
+
+
 def _images(sym):
     return 1 if sym["kind"] == "reflection" else sym["order"] - 1
 
 
-def _hausdorff(a, b):
+def hausdorff(a, b):
     """Two-sided distance of two polylines (model units)."""
     identity = {"kind": "reflection", "point": [0, 0, 0], "normal": [1, 0, 0]}
     return max(native.image_distance(identity, 0, a, b), native.image_distance(identity, 0, b, a))
@@ -118,7 +128,8 @@ def orbit(surface, symmetries, anchor, loop_points, tolerance, existing=()):
     mirror through its axis, the whole dihedral orbit), without the strip itself: images
     whose loop lies within `tolerance` of the strip's loop, of an earlier image, or of a loop
     in `existing` are left out (a loop that is its own mirror image needs no copy).
-    Returns [(anchor, expected loop points)]."""
+    Returns ([(anchor, expected loop points)], the largest distance of an image left out as
+    the strip's own loop from that loop: 0 for a loop exactly its own image)."""
     elements = [(list(anchor), np.asarray(loop_points, dtype=float))]
     for sym in symmetries:
         for a, points in list(elements):
@@ -126,12 +137,17 @@ def orbit(surface, symmetries, anchor, loop_points, tolerance, existing=()):
             for k in range(1, _images(sym) + 1):
                 elements.append((list(anchors[k - 1]), native.map_points(sym, points, k)))
     kept = [elements[0]]
+    own = 0.0     # how far the images that coincide with the strip's own loop are from it
     for a, points in elements[1:]:
-        if any(_hausdorff(points, p) <= tolerance for _, p in kept) or \
-                any(_hausdorff(points, p) <= tolerance for p in existing):
+        d = hausdorff(points, elements[0][1])
+        if d <= tolerance:
+            own = max(own, d)
+            continue
+        if any(hausdorff(points, p) <= tolerance for _, p in kept[1:]) or \
+                any(hausdorff(points, p) <= tolerance for p in existing):
             continue
         kept.append((a, points))
-    return kept[1:]
+    return kept[1:], own
 
 
 def mean_edge_length(surface):
@@ -164,5 +180,5 @@ def loops_symmetry_error(loops, sym):
     for a in loops:
         for k in range(1, _images(sym) + 1):
             image = native.map_points(sym, a, k)
-            worst = max(worst, min(_hausdorff(image, b) for b in loops))
+            worst = max(worst, min(hausdorff(image, b) for b in loops))
     return worst

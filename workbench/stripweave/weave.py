@@ -111,6 +111,7 @@ class WeaveOptions:
     refine_candidates: int = 2      # ... predicting this many candidate strips per added one, the best derived
     query_polls: int = 400          # a loop query doing more work is stopped (no proposal there; 0: no cap)
     query_timeout_s: float = 20.0   # a loop query running longer is cancelled (wall-clock safety net)
+    symmetry_tolerance: float = 1e-3  # ... a loop that is its own image must be so within this (diagonals)
     symmetry: tuple = ()            # symmetries (symmetry.py dicts, model units): every added strip comes
                                     # with its images on the other parts (paper §5.8)
     verbose: bool = False           # progress on stderr
@@ -259,6 +260,9 @@ class _Weaver:
             # Loops are chains of graph nodes: an image closer to a loop than two solver edges is
             # that loop on this graph (a loop that crosses the mirror orthogonally is its own image).
             self.image_tolerance = 2.0 * mean_edge_length(ds.surface)
+        # A loop that is its own image must be so within the symmetry's tolerance (design.md's 1e-3
+        # of the diagonal): the symmetric solver mesh (symmetry.symmetric_surface) makes it exact.
+        self.symmetry_tolerance = options.symmetry_tolerance * ds.surface.bbox_diagonal
 
     def out_of_work(self, elapsed):
         """Whether the budget (deterministic) or the safety net (wall clock) is used up."""
@@ -317,7 +321,14 @@ class _Weaver:
         strip = self.ds.strip(index)
         existing = [self.ds.strip(j)["points"] for j in range(index)]
         anchor = self.ds.design.strips[index].anchors[0].to_list()
-        images = orbit(self.ds.surface, self.options.symmetry, anchor, strip["points"], self.image_tolerance, existing)
+        images, own = orbit(self.ds.surface, self.options.symmetry, anchor, strip["points"], self.image_tolerance,
+                            existing)
+        if own > self.symmetry_tolerance:
+            # Its own image, but only roughly (a loop through a g-edge beside the mirror): the
+            # design would not be symmetric; weaving looks elsewhere.
+            _say(self.options, f"  rejected: the loop is its own image only to {own:.3g}")
+            self.remove(index)
+            return False
         if not images:
             return True
         self.work += WORK_DERIVE
@@ -334,6 +345,15 @@ class _Weaver:
             self.ds.remove_strip(index)
             return False
         self.groups[index] = 1 + len(images)
+        # The image loops were searched afresh through the image anchors: one that strays from
+        # the image of the strip's loop (the compatibility mask of the strips before it, an
+        # asymmetric solver mesh) would leave the design asymmetric; then neither is kept.
+        from .symmetry import hausdorff
+        for j, (_, expected) in enumerate(images):
+            if hausdorff(self.ds.strip(index + 1 + j)["points"], expected) > self.image_tolerance:
+                _say(self.options, "  rejected: a symmetric image's loop is not the image of the strip's loop")
+                self.remove(index)
+                return False
         return True
 
     def proposals(self, point, alternatives):
