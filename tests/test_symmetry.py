@@ -200,3 +200,24 @@ def test_cli_info_and_weave_take_symmetry(tmp_path):
     bad = subprocess.run([CLI, "weave", str(path), "--auto", "--out", str(tmp_path / "o"), "--symmetry", "mirror"],
                          capture_output=True, text=True)
     assert bad.returncode == 1 and "--symmetry must be" in bad.stderr and "Traceback" not in bad.stderr
+
+
+def test_symmetric_solver_mesh_is_exact_and_watertight(mirrored):
+    from models import is_watertight_manifold
+    plane = {"kind": "reflection", "point": [0, 0, 0], "normal": [1, 0, 0]}
+    sym = native.symmetric_surface(mirrored, plane)
+    assert native.measure_symmetry(sym, plane)["max_error"] <= 1e-12 * mirrored.bbox_diagonal
+    assert native.measure_symmetry(mirrored, plane)["max_error"] > 0   # the remeshed part was not exact
+    assert is_watertight_manifold(sym)
+    assert sym.report()["genus"] == mirrored.report()["genus"] == 0
+    assert abs(len(sym.triangles) - len(mirrored.triangles)) < 0.1 * len(mirrored.triangles)
+    assert sym.report()["feature_curves"] > 0      # the slab's and bosses' sharp edges stay features
+    with pytest.raises(native.InputError, match="does not cut"):
+        native.symmetric_surface(mirrored, {"kind": "reflection", "point": [100, 0, 0], "normal": [1, 0, 0]})
+
+
+def test_given_rotation_is_measured(fan):
+    r = resolve(fan, "rotate:0,0,0,0,0,1,5")
+    assert r[0]["source"] == "given" and r[0]["max_error"] <= 1e-3 * fan.bbox_diagonal
+    with pytest.raises(native.InputError, match="more than the tolerance"):
+        resolve(fan, "rotate:0,0,0,0,0,1,4")
