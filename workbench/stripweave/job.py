@@ -251,7 +251,8 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
     layout, details = _layout_of(ds)
     lap("layout")
     report = make_report(ds, layout, {})
-    report["symmetry"] = symmetry_report(ds, layout, symmetries)
+    if symmetry is not None or design.symmetry is not None:   # asked for (even "none"): say what was used
+        report["symmetry"] = symmetry_report(ds, layout, symmetries)
     paths = {}
     step_error = None
     if out is not None:
