@@ -29,4 +29,5 @@ void bind_regions(pybind11::module_& m);  // loop arrangement, regions, assessme
 void bind_surfacing(pybind11::module_& m);  // patch network -> B-spline patches, shell, STEP
 void bind_weave(pybind11::module_& m);    // automatic weaving: assessment and seed points (issue 6)
 void bind_render(pybind11::module_& m);   // the preview pictures' rasterizer and shader
+void bind_symmetry(pybind11::module_& m); // symmetry maps and their detection (§5.8)
 }

@@ -261,4 +261,5 @@ PYBIND11_MODULE(_stripweave, m) {
   stripweave_python::bind_surfacing(m);
   stripweave_python::bind_weave(m);
   stripweave_python::bind_render(m);
+  stripweave_python::bind_symmetry(m);
 }

@@ -4,6 +4,8 @@ Each stage is run `repeat` times; the JSON holds the median and the 95th
 percentile of each stage's milliseconds, with the sizes the stage produced.
 Later stages (graph, loops, strips, layout, refit) add their own sections.
 
+symmetry (issue 21): symmetry_ms {median, p95, runs}, detection alone (bench_symmetry).
+
 refit (issue 7): refit_s {median, p95, runs} is the surfacing stage alone (patch
 network -> fitted B-spline patches -> sewn shell, no STEP file) on the bench's
 strip design when its layout is valid, else on an auto-woven design (weave.auto_weave),
@@ -198,8 +200,23 @@ def bench_refit(session, repeat=3):
     }
 
 
+def bench_symmetry(surface, repeat=3):
+    """Symmetry detection (symmetry.detect, paper §5.8): symmetry_ms {median, p95, runs} and
+    what it found (kind, order, max error in diagonals)."""
+    from .symmetry import detect
+    runs, found = [], []
+    for _ in range(max(1, repeat)):
+        start = time.perf_counter()
+        found = detect(surface)
+        runs.append((time.perf_counter() - start) * 1000.0)
+    return {"symmetry_ms": summary(runs),
+            "symmetries": [{"kind": s["kind"], "order": s.get("order", 2),
+                            "max_error": s["max_error"] / surface.bbox_diagonal} for s in found]}
+
+
 def run_bench(path, repeat=3, loops=True, strips=True, refit=True, **options):
     surface, result = bench_surface(path, repeat=repeat, **options)
+    result.update(bench_symmetry(surface, repeat=repeat))
     if loops:
         result.update(bench_loops(surface))
         if strips:

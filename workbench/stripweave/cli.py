@@ -1,6 +1,6 @@
 """The `stripweave` command line (run it as build/stripweave).
 
-    stripweave info MODEL [--json]       the surface report
+    stripweave info MODEL [--json] [--symmetry auto]   the surface report (and its symmetries)
     stripweave loop MODEL --anchor X,Y,Z[,DX,DY,DZ] [--anchor ...] [--alternatives K]
                     [--boundary aligned|trimmed] [--json]   elastica loops through anchors
                     [--design D.json]   ... compatible with the design's strips (§6.2)
@@ -10,7 +10,7 @@
                                          regions, assessment and primal quad layout -> DIR/layout.json
     stripweave weave MODEL [--design D.json] [--auto] --out DIR [--step] [--json]
                     [--max-strips N] [--patches N] [--no-features] [--boundary aligned|trimmed] [--seed S]
-                    [--time-limit S]
+                    [--time-limit S] [--symmetry auto|none|reflect:..|rotate:..] [--symmetry-tolerance F]
                                          the main job: (automatic) design, layout, report, preview.png
     stripweave bench MODEL [--repeat N] [--no-refit]  stage timings and sizes (refit_s too), JSON
     stripweave batch MODEL_OR_DIR... --out OUT [--step] [--jobs N] [--time-limit S] [--memory-limit MB]
@@ -49,6 +49,12 @@ def cmd_info(args):
     from .surface import load
     surface = load(args.model, **_surface_options(args))
     info = info_dict(surface)
+    if args.symmetry != "none":
+        import time
+        from .symmetry import resolve
+        start = time.perf_counter()
+        info["symmetry"] = resolve(surface, args.symmetry, tolerance=args.symmetry_tolerance)
+        info["symmetry_time_ms"] = round((time.perf_counter() - start) * 1000.0, 1)
     if args.json:
         print(json.dumps(info, indent=2))
     else:
@@ -67,9 +73,11 @@ def _surface_options_for(args, design):
 
 def _design_session(args, surface, design):
     from .strips import DesignSession
+    from .symmetry import symmetric_surface
     if args.boundary is not None:
         design.options["boundary"] = args.boundary
-    return DesignSession(surface, design)
+    # A symmetric design was derived on the symmetric solver mesh (weave --symmetry).
+    return DesignSession(symmetric_surface(surface, design.symmetry or ()), design)
 
 
 def cmd_loop(args):
@@ -172,7 +180,8 @@ def cmd_weave(args):
                    patches=args.patches, features=not args.no_features, boundary=args.boundary, seed=args.seed,
                    step=args.step, verbose=True, target_triangles=args.target_triangles,
                    feature_angle_deg=args.feature_angle,
-                   budget=args.budget, time_limit_s=args.time_limit if args.time_limit > 0 else float("inf"))
+                   budget=args.budget, time_limit_s=args.time_limit if args.time_limit > 0 else float("inf"),
+                   symmetry=args.symmetry, symmetry_tolerance=args.symmetry_tolerance)
     report = {k: v for k, v in result.items() if k not in ("surface", "design", "log")}
     if args.json:
         print(json.dumps(report))
@@ -228,6 +237,13 @@ def cmd_batch(args):
     return 0
 
 
+def _add_symmetry_options(p, default, help):
+    from .symmetry import SYNTAX
+    p.add_argument("--symmetry", default=default, metavar="SPEC", help=f"{help}: {SYNTAX}")
+    p.add_argument("--symmetry-tolerance", type=float, default=1e-3, metavar="F",
+                   help="largest error of an accepted symmetry, as a fraction of the diagonal (default 1e-3)")
+
+
 def _input_error(text):
     from ._native import native
     return native.InputError(text)
@@ -254,6 +270,7 @@ def build_parser():
     p = sub.add_parser("info", help="load a model and print its surface report")
     p.add_argument("model")
     p.add_argument("--json", action="store_true", help="machine-readable output")
+    _add_symmetry_options(p, "none", "also list the symmetries found (auto) or measure a given one (default none)")
     _add_surface_options(p)
     p.set_defaults(run=cmd_info)
 
@@ -297,6 +314,8 @@ def build_parser():
                    help="wall-clock safety net: seconds of weaving after which only red regions are worked on "
                         f"(default {WeaveOptions.time_limit_s:g}, not reached on the shared models; 0: none)")
     p.add_argument("--json", action="store_true", help="print report.json's content (plus paths) on stdout")
+    _add_symmetry_options(p, None, "weave symmetrically, every added strip with its images (default: the "
+                                   "design's symmetry, else none)")
     _add_surface_options(p)
     p.set_defaults(run=cmd_weave)
 

@@ -16,8 +16,12 @@ The file format:
      "options": {"k": 4, "max_turn_deg": 30, "alpha": 1.0, "beta": 0.25,
                  "boundary": "aligned", "feature_angle_deg": 30},
      "strips": [{"anchors": [{"point": [x, y, z], "direction": [dx, dy, dz] | null}],
-                 "closed": true}]}
-Only format, version and strips are required; missing options take the
+                 "closed": true}],
+     "symmetry": [{"kind": "reflection", "point": [x, y, z], "normal": [..], "source": "given",
+                   "rms_error": e, "max_error": e},
+                  {"kind": "rotation", "point": [..], "axis": [..], "order": n, ...}]}
+Only format, version and strips are required; "symmetry" (symmetry.py, paper §5.8) is kept
+as read (None when absent: a design without it loads and saves as before); missing options take the
 defaults above. Keys this version does not know are kept on save, at every
 level (a newer tool's additions survive an edit here).
 """
@@ -122,8 +126,9 @@ class Strip:
 class Design:
     """An ordered list of strips, with the loop options and the model it was made on."""
 
-    def __init__(self, strips=(), options=None, model=None, extra=None):
+    def __init__(self, strips=(), options=None, model=None, extra=None, symmetry=None):
         self.strips = [s if isinstance(s, Strip) else Strip(s) for s in strips]
+        self.symmetry = None if symmetry is None else [dict(x) for x in symmetry]
         self.options = {**DEFAULT_OPTIONS, **(options or {})}
         self.model = dict(model or {})
         self.extra = dict(extra or {})
@@ -180,6 +185,13 @@ class Design:
                                  f"within [{low:g}, {high:g}], got {options[key]!r}")
         if not isinstance(data.get("model", {}) or {}, dict):
             raise _error("", "'model' must be an object")
+        symmetry = data.get("symmetry")
+        if symmetry is not None:
+            from .symmetry import check
+            if not isinstance(symmetry, list):
+                raise _error("", "'symmetry' must be a list")
+            for i, entry in enumerate(symmetry):
+                check(entry, f", symmetry {i + 1}")
         strips = []
         for i, s in enumerate(data["strips"]):
             where = f", strip {i + 1}"
@@ -201,11 +213,15 @@ class Design:
             strips.append(Strip(anchors, closed if isinstance(closed, bool) else None,
                                 {k: v for k, v in s.items() if k not in ("anchors", "closed")}))
         return cls(strips, options, data.get("model"),
-                   {k: v for k, v in data.items() if k not in ("format", "version", "model", "options", "strips")})
+                   {k: v for k, v in data.items()
+                    if k not in ("format", "version", "model", "options", "strips", "symmetry")}, symmetry)
 
     def to_dict(self):
-        return {**self.extra, "format": FORMAT, "version": VERSION, "model": dict(self.model),
-                "options": dict(self.options), "strips": [s.to_dict() for s in self.strips]}
+        d = {**self.extra, "format": FORMAT, "version": VERSION, "model": dict(self.model),
+             "options": dict(self.options), "strips": [s.to_dict() for s in self.strips]}
+        if self.symmetry is not None:
+            d["symmetry"] = [dict(x) for x in self.symmetry]
+        return d
 
     @classmethod
     def load(cls, path):

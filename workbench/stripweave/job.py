@@ -100,6 +100,27 @@ def make_report(ds, layout, timings_ms):
             "timings_ms": {k: round(float(v), 1) for k, v in timings_ms.items()}}
 
 
+def _describe(sym):
+    kind = "reflection" if sym["kind"] == "reflection" else f"rotation of order {sym['order']}"
+    return f"{kind} ({sym['source']}, max error {sym['max_error']:.3g})"
+
+
+def symmetry_report(ds, layout, symmetries):
+    """report.json's "symmetry": each symmetry (design.md's keys, model units) with how far the
+    result is from respecting it: "loops_max_error", the largest distance from a strip's
+    loop mapped by the symmetry to the nearest loop of the design, and "layout_max_error",
+    from a mapped layout vertex to the nearest layout vertex (None without vertices)."""
+    from .symmetry import layout_symmetry_error, loops_symmetry_error
+    loops = [s["points"] for s in ds.strips()]
+    out = []
+    for sym in symmetries:
+        entry = dict(sym)
+        entry["loops_max_error"] = loops_symmetry_error(loops, sym) if loops else 0.0
+        entry["layout_max_error"] = layout_symmetry_error(layout, sym)
+        out.append(entry)
+    return out
+
+
 def _corner_deviation_p95(layout):
     """The 95th percentile of |angle - 90| over the quad patches' corners (layout.json's
     corner_angles_deg; non-quads have none, as in the mean): a few bad corners that the
@@ -152,7 +173,8 @@ def _releasing_locks(run):
 @_releasing_locks
 def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, features=True, boundary=None,
           seed=0, step=False, tolerance=None, verbose=False, progress=None, target_triangles=30000,
-          feature_angle_deg=None, preview=True, _locks=None, **weave_options):
+          feature_angle_deg=None, preview=True, symmetry=None, symmetry_tolerance=1e-3, symmetric_mesh=True, _locks=None,
+          **weave_options):
     """Weave a quad layout on a model; see the module doc.
 
     model       a model file path, a Part shape (or object with .Shape) or a Surface
@@ -165,6 +187,11 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
     budget, time_limit_s, refine, uncovered, ...: see weave.WeaveOptions (budget: deterministic
                 work units; time_limit_s: the wall-clock safety net)
     step        also fit patches and write patches.step (needs the surfacing stage)
+    symmetry    "auto" (detect), "none", a symmetry dict or list of them (symmetry.py), or None
+                (the design's "symmetry", else none): every strip weaving adds comes with its
+                images (paper §5.8); symmetry_tolerance: the error accepted, in diagonals;
+                symmetric_mesh: weave on a solver mesh made exactly symmetric under the
+                reflections (symmetry.symmetric_surface)
     """
     timings = {}
     clock = time.perf_counter()
@@ -198,6 +225,16 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
     if isinstance(model, (str, os.PathLike)):
         design.model.setdefault("path", os.path.abspath(os.fspath(model)))
     design.model["bbox_diagonal"] = surface.report()["bbox_diagonal"]
+    from .symmetry import resolve
+    symmetries = resolve(surface, symmetry, design.symmetry, symmetry_tolerance)
+    if symmetry is not None or design.symmetry is not None:
+        design.symmetry = symmetries
+    lap("symmetry")
+    if symmetries:
+        say(f"symmetry: {', '.join(_describe(x) for x in symmetries)}")
+        if symmetric_mesh:
+            from .symmetry import symmetric_surface
+            surface = symmetric_surface(surface, symmetries)
     say(f"{len(surface.triangles)} triangles; building the elastica graph")
     from .loops import LoopSession
     loop_session = LoopSession(surface, progress=progress, **design.loop_options())
@@ -208,6 +245,7 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
     log, stopped, work, cancelled = [], "not asked (auto off)", 0.0, 0
     if auto:
         result = auto_weave(ds, WeaveOptions(max_strips=max_strips, patches=patches, seed=seed, verbose=verbose,
+                                             symmetry=tuple(symmetries), symmetry_tolerance=symmetry_tolerance,
                                              **weave_options))
         log, stopped, work, cancelled = result.log, result.stopped, result.work, result.cancelled_queries
     lap("weave")
@@ -215,6 +253,8 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
     layout, details = _layout_of(ds)
     lap("layout")
     report = make_report(ds, layout, {})
+    if symmetry is not None or design.symmetry is not None:   # asked for (even "none"): say what was used
+        report["symmetry"] = symmetry_report(ds, layout, symmetries)
     paths = {}
     step_error = None
     if out is not None:

@@ -23,6 +23,21 @@ def format_report(report):
         f"  sharp features  {report['feature_curves']} curve(s), {report['feature_edges']} mesh edges",
         f"  size            bounding-box diagonal {report['bbox_diagonal']:.6g}",
     ]
+    for sym in report.get("symmetry", ()):
+        lines.append("  symmetry        " + format_symmetry(sym))
+    if "symmetry" in report and not report["symmetry"]:
+        lines.append("  symmetry        none found")
     for warning in report.get("warnings", []):
         lines.append(f"  warning: {warning}")
     return "\n".join(lines)
+
+
+def format_symmetry(sym):
+    """One line for a symmetry dict (symmetry.py): what, where, and its errors."""
+    def v(x):
+        return "(" + ", ".join(f"{c:.4g}" for c in x) + ")"
+    if sym["kind"] == "reflection":
+        what = f"reflection in the plane through {v(sym['point'])} with normal {v(sym['normal'])}"
+    else:
+        what = f"rotation of order {sym['order']} about the axis through {v(sym['point'])} along {v(sym['axis'])}"
+    return f"{what}; {sym.get('source', 'given')}, error RMS {sym['rms_error']:.3g}, max {sym['max_error']:.3g}"

@@ -53,8 +53,29 @@ class DesignSession:
             raise
         return len(self.design.strips) - 1
 
+    def add_strips(self, anchor_lists, extras=None):
+        """Append several strips with one update (a strip's symmetric images, symmetry.py);
+        on failure none of them is kept. Returns the index of the first."""
+        first = len(self.design.strips)
+        for i, anchors in enumerate(anchor_lists):
+            self.design.add_strip(anchors)
+            if extras is not None:
+                self.design.strips[-1].extra.update(extras[i])
+        try:
+            self.update()
+        except (native.InputError, native.Cancelled):
+            del self.design.strips[first:]
+            self.update()
+            raise
+        return first
+
     def remove_strip(self, index):
         self.design.remove_strip(index)
+        self.update()
+
+    def remove_strips(self, first, count):
+        """Remove strips first .. first + count - 1 with one update."""
+        del self.design.strips[first:first + count]
         self.update()
 
     def edit_strip(self, index, anchors):

@@ -112,6 +112,9 @@ class WeaveOptions:
     refine_candidates: int = 2      # ... predicting this many candidate strips per added one, the best derived
     query_polls: int = 400          # a loop query doing more work is stopped (no proposal there; 0: no cap)
     query_timeout_s: float = 20.0   # a loop query running longer is cancelled (wall-clock safety net)
+    symmetry_tolerance: float = 1e-3  # ... a loop that is its own image must be so within this (diagonals)
+    symmetry: tuple = ()            # symmetries (symmetry.py dicts, model units): every added strip comes
+                                    # with its images on the other parts (paper §5.8)
     verbose: bool = False           # progress on stderr
     cancel: object = None           # a threading.Event: once set, weaving raises Cancelled at its next step
                                     # (a GUI's Cancel; with the loop session's cancel() it stops within a step)
@@ -269,6 +272,16 @@ class _Weaver:
         self.work = 0.0             # units spent (module doc)
         self.cancelled = 0          # loop queries cut by the timeout
         self.user_strips = len(ds.design.strips)
+        self.groups = {}            # index of an added strip -> 1 + its symmetric images, added after it
+        self.image_tolerance = 0.0
+        if options.symmetry:
+            from .symmetry import mean_edge_length
+            # Loops are chains of graph nodes: an image closer to a loop than two solver edges is
+            # that loop on this graph (a loop that crosses the mirror orthogonally is its own image).
+            self.image_tolerance = 2.0 * mean_edge_length(ds.surface)
+        # A loop that is its own image must be so within the symmetry's tolerance (design.md's 1e-3
+        # of the diagonal): the symmetric solver mesh (symmetry.symmetric_surface) makes it exact.
+        self.symmetry_tolerance = options.symmetry_tolerance * ds.surface.bbox_diagonal
 
     def out_of_work(self, elapsed):
         """Whether the budget (deterministic) or the safety net (wall clock) is used up."""
@@ -316,9 +329,59 @@ class _Weaver:
         return _layout(self.ds)
 
     def remove(self, index):
-        """Remove the strip just added (the last one): DesignState restores its kept state."""
-        self.work += WORK_RESTORE if index == len(self.ds.design.strips) - 1 else WORK_DERIVE
-        self.ds.remove_strip(index)
+        """Remove the strip just added (the last one, with its symmetric images): DesignState
+        restores its kept state."""
+        count = self.groups.pop(index, 1)
+        self.work += WORK_RESTORE if index + count == len(self.ds.design.strips) and count == 1 else WORK_DERIVE
+        if count == 1:
+            self.ds.remove_strip(index)
+        else:
+            self.ds.remove_strips(index, count)
+
+    def add_images(self, index):
+        """Add the images of strip `index` under the symmetries (symmetry.orbit): each its
+        anchor mapped and re-projected, its loop re-searched there, all in one derivation.
+        An image that coincides with the strip or with a loop already in the design is left
+        out. False if the design rejects an image (the strip is then removed too: a design
+        stays symmetric or does not take the strip)."""
+        from .symmetry import orbit
+        strip = self.ds.strip(index)
+        existing = [self.ds.strip(j)["points"] for j in range(index)]
+        anchor = self.ds.design.strips[index].anchors[0].to_list()
+        images, own = orbit(self.ds.surface, self.options.symmetry, anchor, strip["points"], self.image_tolerance,
+                            existing)
+        if own > self.symmetry_tolerance:
+            # Its own image, but only roughly (a loop through a g-edge beside the mirror): the
+            # design would not be symmetric; weaving looks elsewhere.
+            _say(self.options, f"  rejected: the loop is its own image only to {own:.3g}")
+            self.remove(index)
+            return False
+        if not images:
+            return True
+        self.work += WORK_DERIVE
+        try:
+            self.ds.add_strips([[a] for a, _ in images], [{"image_of": index} for _ in images])
+        except native.InputError as e:
+            _say(self.options, f"  rejected: a symmetric image is refused by the design ({e})")
+            self.ds.remove_strip(index)
+            return False
+        except native.Cancelled:
+            if not self.session.query_limited:
+                raise
+            _say(self.options, "  rejected: deriving a symmetric image ran past the query cap")
+            self.ds.remove_strip(index)
+            return False
+        self.groups[index] = 1 + len(images)
+        # The image loops were searched afresh through the image anchors: one that strays from
+        # the image of the strip's loop (the compatibility mask of the strips before it, an
+        # asymmetric solver mesh) would leave the design asymmetric; then neither is kept.
+        from .symmetry import hausdorff
+        for j, (_, expected) in enumerate(images):
+            if hausdorff(self.ds.strip(index + 1 + j)["points"], expected) > self.image_tolerance:
+                _say(self.options, "  rejected: a symmetric image's loop is not the image of the strip's loop")
+                self.remove(index)
+                return False
+        return True
 
     def proposals(self, point, alternatives):
         """Loops through the point, best first; when the all-directions query gives nothing in
@@ -392,6 +455,8 @@ class _Weaver:
             # Deriving it searched past the query cap (from a node of the loop, not from the
             # seed the proposal came from): as a proposal that was never found.
             _say(self.options, "  rejected: deriving its loop ran past the query cap")
+            return None
+        if self.options.symmetry and not self.add_images(index):
             return None
         return index
 

@@ -1,0 +1,223 @@
+"""Symmetry (paper §5.8, issue 21): detection, given symmetries, symmetric weaving, design.json.
+
+Generated models: a box with an off-centre boss mirrored in x (symmetric in x only), a hub
+with 5 identical (chiral) blades (rotation of order 5 only), the same box with one boss
+moved (symmetric only to about 1% of the diagonal), and a box with one boss (no symmetry).
+"""
+import json
+import math
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+import FreeCAD  # noqa: F401
+import Part
+from FreeCAD import Vector
+
+import stripweave as sw
+from stripweave._native import native
+from stripweave.design import Design
+from stripweave.symmetry import layout_symmetry_error, loops_symmetry_error, parse, resolve
+
+REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+CLI = os.path.join(os.environ.get("STRIPWEAVE_BUILD", os.path.join(REPO, "build")), "stripweave")
+
+
+def mirrored_box(shift=0.0):
+    """A 40 x 20 x 8 slab centred at x = 0 with a 6 x 4 x 4 boss at x in [7, 13], y in [1, 5]
+    and its mirror image at x in [-13, -7] (moved by `shift` along y: no longer symmetric)."""
+    slab = Part.makeBox(40, 20, 8, Vector(-20, -10, 0))
+    right = Part.makeBox(6, 4, 4, Vector(7, 1, 8))
+    left = Part.makeBox(6, 4, 4, Vector(-13, 1 + shift, 8))
+    return slab.fuse([right, left]).removeSplitter()
+
+
+def one_boss_box():
+    slab = Part.makeBox(40, 20, 8, Vector(-20, -10, 0))
+    return slab.fuse(Part.makeBox(6, 4, 4, Vector(7, 1, 8))).removeSplitter()
+
+
+def hub(blades=5):
+    """A cylinder hub along z with `blades` identical blades, each tilted about its own long
+    axis (a fan: no mirror plane), the hub taller above them than below (no half turn about
+    a blade): a rotation of order `blades` only."""
+    shape = Part.makeCylinder(5, 7, Vector(0, 0, -2))   # taller above the blades: no flip
+    for k in range(blades):
+        blade = Part.makeBox(12, 1.5, 3, Vector(4, -0.75, -1.5))
+        blade.rotate(Vector(0, 0, 0), Vector(1, 0, 0), 25)
+        blade.rotate(Vector(0, 0, 0), Vector(0, 0, 1), 360.0 * k / blades)
+        shape = shape.fuse(blade)
+    return shape.removeSplitter()
+
+
+@pytest.fixture(scope="module")
+def mirrored():
+    return sw.from_shape(mirrored_box(), target_triangles=8000)
+
+
+@pytest.fixture(scope="module")
+def fan():
+    return sw.from_shape(hub(5), target_triangles=12000)
+
+
+def reflections(found):
+    return [s for s in found if s["kind"] == "reflection"]
+
+
+def test_mirrored_box_has_the_plane_x0(mirrored):
+    found = native.detect_symmetries(mirrored)
+    diagonal = mirrored.bbox_diagonal
+    planes = reflections(found)
+    assert len(planes) == 1, found                 # y and z are broken by the bosses
+    assert not [s for s in found if s["kind"] == "rotation"], found
+    p = planes[0]
+    n = np.array(p["normal"])
+    assert abs(abs(n[0]) - 1.0) < 1e-6 and np.abs(n[1:]).max() < 1e-6
+    assert abs(np.dot(p["point"], n)) < 1e-6 * diagonal   # the plane x = 0
+    assert p["source"] == "detected"
+    assert p["max_error"] <= 1e-3 * diagonal and 0 <= p["rms_error"] <= p["max_error"]
+
+
+def test_hub_has_a_rotation_of_order_5(fan):
+    found = native.detect_symmetries(fan)
+    rotations = [s for s in found if s["kind"] == "rotation"]
+    assert len(rotations) == 1, found
+    r = rotations[0]
+    assert r["order"] == 5                         # the maximal order; no 10 (chiral blades)
+    assert abs(abs(r["axis"][2]) - 1.0) < 1e-4
+    assert np.hypot(r["point"][0], r["point"][1]) < 1e-3 * fan.bbox_diagonal
+    assert not reflections(found), found           # tilted blades: no mirror plane
+
+
+def test_asymmetric_part_reports_none():
+    surface = sw.from_shape(one_boss_box(), target_triangles=6000)
+    assert native.detect_symmetries(surface) == []
+
+
+def test_approximate_symmetry_is_accepted_only_within_the_tolerance():
+    shift = 0.01 * math.sqrt(40 ** 2 + 20 ** 2 + 12 ** 2)      # 1% of the diagonal
+    surface = sw.from_shape(mirrored_box(shift), target_triangles=8000)
+    diagonal = surface.bbox_diagonal
+    assert reflections(native.detect_symmetries(surface, 1e-3)) == []
+    loose = reflections(native.detect_symmetries(surface, 3e-2))
+    assert len(loose) == 1
+    error = loose[0]["max_error"] / diagonal
+    assert 3e-3 < error < 3e-2                     # reported with its error, about the shift
+    given = parse("reflect:0,0,0,1,0,0")
+    with pytest.raises(native.InputError, match="more than the tolerance"):
+        resolve(surface, given, tolerance=1e-3)
+    ok = resolve(surface, given, tolerance=3e-2)
+    assert ok[0]["source"] == "given" and ok[0]["max_error"] > 1e-3 * diagonal
+
+
+def test_maps_and_their_inverse(mirrored):
+    r = {"kind": "rotation", "point": [1, 2, 3], "axis": [0, 0, 2], "order": 4}
+    p = np.array([[2.0, 2.0, 5.0]])
+    q = native.map_points(r, p, 1)
+    assert np.allclose(q, [[1, 3, 5]])
+    assert np.allclose(native.map_points(r, q, -1), p)
+    assert np.allclose(native.map_points(r, p, 4), p)
+    m = {"kind": "reflection", "point": [1, 0, 0], "normal": [3, 0, 0]}
+    assert np.allclose(native.map_points(m, p, 1), [[0, 2, 5]])
+    assert np.allclose(native.map_points(m, p, 2), p)
+    # An anchor's image is on the surface, its direction mapped.
+    images = native.anchor_images(mirrored, {"kind": "reflection", "point": [0, 0, 0], "normal": [1, 0, 0]},
+                                  [10.0, 3.0, 12.0, 1.0, 1.0, 0.0])
+    assert len(images) == 1
+    assert np.allclose(images[0][:3], [-10, 3, 12], atol=1e-6)
+    assert np.allclose(np.array(images[0][3:]) * math.sqrt(2), [-1, 1, 0], atol=1e-6)
+
+
+def test_bad_symmetry_specs_are_one_line_errors(mirrored):
+    for bad in ("reflect:0,0,0", "rotate:0,0,0,0,0,1,2.5", "spin", "reflect:0,0,0,0,0,0"):
+        with pytest.raises(native.InputError):
+            resolve(mirrored, bad)
+    with pytest.raises(native.InputError, match="order"):
+        resolve(mirrored, "rotate:0,0,0,0,0,1,1")
+
+
+def test_design_symmetry_round_trips(tmp_path):
+    entry = {"kind": "rotation", "point": [0, 0, 0], "axis": [0, 0, 1], "order": 5, "source": "detected",
+             "rms_error": 0.001, "max_error": 0.002}
+    data = {"format": "stripweave-design", "version": 1, "strips": [], "symmetry": [entry], "future": 1}
+    path = tmp_path / "d.json"
+    path.write_text(json.dumps(data))
+    d = Design.load(path)
+    assert d.symmetry == [entry]
+    d.save(path)
+    again = json.loads(path.read_text())
+    assert again["symmetry"] == [entry] and again["future"] == 1
+    # Without it, a design loads and saves as before (no key added).
+    del data["symmetry"]
+    path.write_text(json.dumps(data))
+    d = Design.load(path)
+    assert d.symmetry is None
+    d.save(path)
+    assert "symmetry" not in json.loads(path.read_text())
+    data["symmetry"] = [{"kind": "rotation", "point": [0, 0, 0], "axis": [0, 0, 1], "order": 1}]
+    path.write_text(json.dumps(data))
+    with pytest.raises(native.InputError, match="symmetry 1"):
+        Design.load(path)
+
+
+@pytest.fixture(scope="module")
+def woven_mirrored(mirrored, tmp_path_factory):
+    out = tmp_path_factory.mktemp("sym")
+    return sw.weave(mirrored, out=str(out), symmetry="auto", max_strips=12), out
+
+
+def test_symmetric_weave_mirrors_every_loop(woven_mirrored, mirrored):
+    result, out = woven_mirrored
+    diagonal = mirrored.bbox_diagonal
+    sym = result["symmetry"]
+    assert len(sym) == 1 and sym[0]["kind"] == "reflection" and sym[0]["source"] == "detected"
+    assert result["strips"] >= 2 and result["valid"]
+    images = [s for s in Design.load(out / "design.json").strips if "image_of" in s.extra]
+    assert images                      # strips off the plane came with their mirror images
+    from stripweave.strips import DesignSession
+    from stripweave.symmetry import symmetric_surface
+    solver = result["surface"]         # the solver mesh made symmetric (one half mirrored)
+    assert native.measure_symmetry(solver, sym[0])["max_error"] <= 1e-9 * diagonal
+    ds = DesignSession(symmetric_surface(mirrored, sym), Design.load(out / "design.json"))
+    loops = [s["points"] for s in ds.strips()]
+    assert loops_symmetry_error(loops, sym[0]) <= 1e-3 * diagonal
+    assert sym[0]["loops_max_error"] <= 1e-3 * diagonal
+    report = json.loads((out / "report.json").read_text())
+    assert report["symmetry"][0]["kind"] == "reflection"
+    saved = json.loads((out / "design.json").read_text())
+    assert saved["symmetry"][0]["source"] == "detected"
+
+
+def test_cli_info_and_weave_take_symmetry(tmp_path):
+    path = tmp_path / "m.brep"
+    mirrored_box().exportBrep(str(path))
+    info = json.loads(subprocess.run([CLI, "info", str(path), "--json", "--symmetry", "auto",
+                                      "--target-triangles", "6000"], capture_output=True, text=True,
+                                     check=True).stdout)
+    assert [s["kind"] for s in info["symmetry"]] == ["reflection"] and info["symmetry_time_ms"] >= 0
+    bad = subprocess.run([CLI, "weave", str(path), "--auto", "--out", str(tmp_path / "o"), "--symmetry", "mirror"],
+                         capture_output=True, text=True)
+    assert bad.returncode == 1 and "--symmetry must be" in bad.stderr and "Traceback" not in bad.stderr
+
+
+def test_symmetric_solver_mesh_is_exact_and_watertight(mirrored):
+    from models import is_watertight_manifold
+    plane = {"kind": "reflection", "point": [0, 0, 0], "normal": [1, 0, 0]}
+    sym = native.symmetric_surface(mirrored, plane)
+    assert native.measure_symmetry(sym, plane)["max_error"] <= 1e-12 * mirrored.bbox_diagonal
+    assert native.measure_symmetry(mirrored, plane)["max_error"] > 0   # the remeshed part was not exact
+    assert is_watertight_manifold(sym)
+    assert sym.report()["genus"] == mirrored.report()["genus"] == 0
+    assert abs(len(sym.triangles) - len(mirrored.triangles)) < 0.1 * len(mirrored.triangles)
+    assert sym.report()["feature_curves"] > 0      # the slab's and bosses' sharp edges stay features
+    with pytest.raises(native.InputError, match="does not cut"):
+        native.symmetric_surface(mirrored, {"kind": "reflection", "point": [100, 0, 0], "normal": [1, 0, 0]})
+
+
+def test_given_rotation_is_measured(fan):
+    r = resolve(fan, "rotate:0,0,0,0,0,1,5")
+    assert r[0]["source"] == "given" and r[0]["max_error"] <= 1e-3 * fan.bbox_diagonal
+    with pytest.raises(native.InputError, match="more than the tolerance"):
+        resolve(fan, "rotate:0,0,0,0,0,1,4")

@@ -1,0 +1,184 @@
+"""Symmetry (paper §5.8, issue 21): the reflections and rotations a layout should respect.
+
+    syms = detect(surface)                        # [{"kind", "point", "normal"|"axis", "order",
+                                                  #   "source": "detected", "rms_error", "max_error"}]
+    syms = resolve(surface, "auto" | "none" | "reflect:0,0,0,1,0,0" | [dict, ...] | None,
+                   design_symmetry=[...], tolerance=1e-3)
+    parse("rotate:0,0,0,0,0,1,5")                 # a given symmetry as design.md's dict
+    orbit(surface, syms, anchor, loop_points)     # a strip's images on the other parts
+    layout_symmetry_error(layout, sym)            # how far the layout's vertex set is from mapping to itself
+
+Symmetries are design.md's dicts, in model units; the maps and their detection are native
+(symmetry/*.h). The tolerance is a fraction of the bounding-box diagonal: a symmetry is
+accepted when no surface vertex is mapped farther than that from the surface.
+"""
+import math
+
+import numpy as np
+
+from ._native import native
+
+SYNTAX = "auto, none, reflect:PX,PY,PZ,NX,NY,NZ or rotate:PX,PY,PZ,AX,AY,AZ,N"
+
+
+def parse(text):
+    """'auto', 'none', or a given symmetry (design.md's dict, source "given") from the
+    command line's reflect:/rotate: syntax; InputError naming the syntax otherwise."""
+    text = text.strip()
+    if text in ("auto", "none"):
+        return text
+    kind, _, numbers = text.partition(":")
+    try:
+        values = [float(x) for x in numbers.split(",")]
+    except ValueError:
+        values = []
+    if kind == "reflect" and len(values) == 6 and all(map(math.isfinite, values)):
+        return {"kind": "reflection", "point": values[:3], "normal": values[3:], "source": "given"}
+    if kind == "rotate" and len(values) == 7 and all(map(math.isfinite, values)) and values[6] == int(values[6]):
+        return {"kind": "rotation", "point": values[:3], "axis": values[3:6], "order": int(values[6]), "source": "given"}
+    raise native.InputError(f"--symmetry must be {SYNTAX}; got {text!r}")
+
+
+def check(entry, where=""):
+    """A symmetry dict from a design file, checked: InputError naming what is wrong."""
+    def error(what):
+        return native.InputError(f"design file{where}: {what}")
+    if not isinstance(entry, dict):
+        raise error("a symmetry must be an object")
+    kind = entry.get("kind")
+    keys = {"reflection": ("point", "normal"), "rotation": ("point", "axis")}.get(kind)
+    if keys is None:
+        raise error(f"a symmetry's kind must be 'reflection' or 'rotation', got {kind!r}")
+    for key in keys:
+        v = entry.get(key)
+        if not isinstance(v, (list, tuple)) or len(v) != 3 or not all(
+                isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) for x in v):
+            raise error(f"a {kind}'s {key} must be three finite numbers, got {v!r}")
+    if not any(entry[keys[1]]):
+        raise error(f"a {kind}'s {keys[1]} must not be zero")
+    if kind == "rotation":
+        order = entry.get("order")
+        if isinstance(order, bool) or not isinstance(order, int) or not 2 <= order <= 64:
+            raise error(f"a rotation's order must be a whole number within 2..64, got {order!r}")
+    return entry
+
+
+def detect(surface, tolerance=1e-3):
+    """The surface's symmetries within tolerance (diagonals), each with its errors (model units)."""
+    return list(native.detect_symmetries(surface, float(tolerance)))
+
+
+def measure(surface, entry):
+    """The symmetry with its RMS and max error measured on the surface (model units)."""
+    return {**dict(native.measure_symmetry(surface, entry)), "source": entry.get("source", "given")}
+
+
+def resolve(surface, spec, design_symmetry=None, tolerance=1e-3):
+    """The symmetries to weave with: none, detected ("auto"), or given (a dict or a list, as
+    parse() gives); None takes the design's own ("symmetry" of design.json), re-measured on
+    this surface. A given symmetry farther off than the tolerance is an InputError that says
+    by how much (an approximate symmetry is accepted only when the tolerance allows it)."""
+    if not tolerance > 0:
+        raise native.InputError(f"the symmetry tolerance must be a positive fraction of the diagonal, got {tolerance}")
+    if spec is None:
+        spec = list(design_symmetry or [])
+    if isinstance(spec, str):
+        spec = parse(spec)
+    if spec == "none":
+        return []
+    if spec == "auto":
+        return detect(surface, tolerance)
+    given = [spec] if isinstance(spec, dict) else list(spec)
+    diagonal = surface.bbox_diagonal
+    out = []
+    for entry in given:
+        m = measure(surface, entry)
+        if m["max_error"] > tolerance * diagonal:
+            raise native.InputError(
+                f"the given {m['kind']} maps the surface up to {m['max_error']:.4g} off itself "
+                f"({m['max_error'] / diagonal:.3g} of the diagonal), more than the tolerance "
+                f"{tolerance:g} of the diagonal")
+        out.append(m)
+    return out
+
+
+def symmetric_surface(surface, symmetries):
+    """The surface with its solver mesh made exactly symmetric under each reflection in turn
+    (native symmetric_surface: one half cut at the plane and mirrored), so that a strip's
+    image is the image of its loop on the graph too. Rotations keep the mesh as it is."""
+    for sym in symmetries:
+        if sym["kind"] == "reflection":
+            surface = native.symmetric_surface(surface, sym)
+    return surface
+
+
+def _images(sym):
+    return 1 if sym["kind"] == "reflection" else sym["order"] - 1
+
+
+def hausdorff(a, b):
+    """Two-sided distance of two polylines (model units)."""
+    identity = {"kind": "reflection", "point": [0, 0, 0], "normal": [1, 0, 0]}
+    return max(native.image_distance(identity, 0, a, b), native.image_distance(identity, 0, b, a))
+
+
+def orbit(surface, symmetries, anchor, loop_points, tolerance, existing=()):
+    """The images of a strip (its anchor and its loop's points) under the group the
+    symmetries generate (each applied in turn to every image so far: for a rotation with a
+    mirror through its axis, the whole dihedral orbit), without the strip itself: images
+    whose loop lies within `tolerance` of the strip's loop, of an earlier image, or of a loop
+    in `existing` are left out (a loop that is its own mirror image needs no copy).
+    Returns ([(anchor, expected loop points)], the largest distance of an image left out as
+    the strip's own loop from that loop: 0 for a loop exactly its own image)."""
+    elements = [(list(anchor), np.asarray(loop_points, dtype=float))]
+    for sym in symmetries:
+        for a, points in list(elements):
+            anchors = native.anchor_images(surface, sym, a)
+            for k in range(1, _images(sym) + 1):
+                elements.append((list(anchors[k - 1]), native.map_points(sym, points, k)))
+    kept = [elements[0]]
+    own = 0.0     # how far the images that coincide with the strip's own loop are from it
+    for a, points in elements[1:]:
+        d = hausdorff(points, elements[0][1])
+        if d <= tolerance:
+            own = max(own, d)
+            continue
+        if any(hausdorff(points, p) <= tolerance for _, p in kept[1:]) or \
+                any(hausdorff(points, p) <= tolerance for p in existing):
+            continue
+        kept.append((a, points))
+    return kept[1:], own
+
+
+def mean_edge_length(surface):
+    """The solver mesh's mean edge length, model units: loops are chains of graph nodes, so
+    two loops closer than this are one loop on this graph."""
+    v, t = surface.vertices, surface.triangles
+    e = np.concatenate([v[t[:, 1]] - v[t[:, 0]], v[t[:, 2]] - v[t[:, 1]], v[t[:, 0]] - v[t[:, 2]]])
+    return float(np.linalg.norm(e, axis=1).mean()) if len(e) else 0.0
+
+
+def layout_symmetry_error(layout, sym):
+    """The largest distance from a mapped layout vertex to the nearest layout vertex (model
+    units): 0 when the vertex set maps to itself; None without vertices."""
+    p = np.array([v["position"] for v in layout.get("vertices", [])], dtype=float).reshape(-1, 3)
+    if not len(p):
+        return None
+    worst = 0.0
+    for k in range(1, _images(sym) + 1):
+        q = native.map_points(sym, p, k)
+        d = np.sqrt(((q[:, None, :] - p[None, :, :]) ** 2).sum(axis=2)).min(axis=1)
+        worst = max(worst, float(d.max()))
+    return worst
+
+
+def loops_symmetry_error(loops, sym):
+    """The largest two-sided distance, over the loops (point arrays, model units) and the
+    symmetry's maps, from a loop's image to the nearest loop: 0 when every loop's image is a
+    loop of the design."""
+    worst = 0.0
+    for a in loops:
+        for k in range(1, _images(sym) + 1):
+            image = native.map_points(sym, a, k)
+            worst = max(worst, min(hausdorff(image, b) for b in loops))
+    return worst
