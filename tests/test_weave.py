@@ -196,7 +196,7 @@ def test_report_agrees_with_layout(woven_cube):
     # design.md's keys and the README's documented extras, nothing else (fit comes only with --step)
     assert set(on_disk) == {"valid", "strips", "patches", "regions", "irregular_vertices", "corner_deviation_deg",
                             "bbox_diagonal", "timings_ms", "clean", "defects", "peak_memory_mb",
-                            "input_triangles", "solver_triangles"}
+                            "input_triangles", "solver_triangles", "memory_mb"}
     assert on_disk["clean"] == layout["clean"] and on_disk["defects"] == layout["defects"]
     assert on_disk["peak_memory_mb"] > 0 and on_disk["solver_triangles"] > 0
     assert on_disk["valid"] == layout["valid"]
