@@ -139,3 +139,107 @@ def test_weld_merges_negative_and_positive_zero_only():
     assert len(sw.from_mesh(corners, soup, target_triangles=0).vertices) == len(v)
     corners[5, 0] += 1e-12
     assert len(sw.from_mesh(corners, soup, target_triangles=0).vertices) == len(v) + 1
+
+
+# --- the proxy (paper §8.1) ----------------------------------------------------------------
+
+def box_grid(n, size=10.0, open_top=False):
+    """The box [0, size]^3 as a welded grid of n x n quads per face (two triangles each),
+    outward; without its top face if open_top."""
+    s = np.linspace(0, size, n + 1)
+    verts, tris, index = [], [], {}
+
+    def vid(p):
+        key = tuple(np.round(p, 9))
+        if key not in index:
+            index[key] = len(verts)
+            verts.append(p)
+        return index[key]
+
+    for axis in range(3):
+        for side in (0.0, size):
+            if open_top and axis == 2 and side == size:
+                continue
+            for i in range(n):
+                for j in range(n):
+                    q = []
+                    for a, b in ((i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)):
+                        p = [0.0, 0.0, 0.0]
+                        p[axis], p[(axis + 1) % 3], p[(axis + 2) % 3] = side, s[a], s[b]
+                        q.append(vid(np.array(p)))
+                    if side == 0.0:
+                        q = q[::-1]
+                    tris += [[q[0], q[1], q[2]], [q[0], q[2], q[3]]]
+    return np.array(verts), np.array(tris)
+
+
+def test_proxy_keeps_genus_boundary_and_creases():
+    """An open box of 16,000 triangles, proxied at 1,500 (simplified, then remeshed): the same
+    genus, boundary loop and crease curves as the original kept as it is."""
+    v, t = box_grid(40, open_top=True)
+    original = sw.from_mesh(v, t, target_triangles=0)
+    proxy = sw.from_mesh(v, t, target_triangles=1500)
+    assert "simplify" in proxy.timings_ms and "simplify" not in original.timings_ms
+    assert len(proxy.triangles) < len(t) / 5
+    a, b = original.report(), proxy.report()
+    assert (b["genus"], b["boundary_loops"], b["feature_curves"]) == (a["genus"], a["boundary_loops"],
+                                                                      a["feature_curves"]) == (0, 1, 8)
+    # The crease curves run where the original's do: every proxy crease point on a box edge.
+    for curve in proxy.feature_curve_points():
+        c = np.asarray(curve)
+        on_faces = np.sum((np.abs(c) < 1e-9) | (np.abs(c - 10) < 1e-9), axis=1)
+        assert np.all(on_faces >= 2)
+
+
+def _bumpy_torus_distance(p, R=2.5):
+    """Distance of points to bench_scale.torus_grid's smooth bumpy torus (the original's surface)."""
+    p = np.asarray(p)
+    q = np.hypot(p[:, 0], p[:, 1]) - R
+    v = np.arctan2(p[:, 2], q)
+    u = np.arctan2(p[:, 1], p[:, 0])
+    return np.abs(np.hypot(q, p[:, 2]) - (1.0 + 0.06 * np.sin(5 * u) * np.sin(3 * v)))
+
+
+def test_loop_found_on_the_proxy_lies_on_the_original():
+    """A torus of 80,000 triangles proxied at 9,000: its vertices are projected onto the original,
+    and best loops found on the proxy stay within 1e-3 of the diagonal from the original."""
+    from stripweave.bench_scale import torus_grid
+    from stripweave.loops import LoopSession
+    v, t = torus_grid(80000)
+    proxy = sw.from_mesh(v, t, target_triangles=9000)
+    assert "project" in proxy.timings_ms
+    diagonal = proxy.report()["bbox_diagonal"]
+    # The original's own facets lie within its chord error of the smooth torus.
+    corners = v[t]
+    chord = max(_bumpy_torus_distance(corners.mean(axis=1)).max(),
+                *(_bumpy_torus_distance(0.5 * (corners[:, i] + corners[:, (i + 1) % 3])).max() for i in range(3)))
+    assert _bumpy_torus_distance(proxy.vertices).max() < chord + 1e-9 * diagonal
+    session = LoopSession(proxy)
+    for point in [(3.5, 0, 0), (0, 2.5, 1.0), (-1.5, 0, 0), (2.1213, 2.1213, 0.866)]:
+        loop = session.best_loop(point)
+        assert _bumpy_torus_distance(loop["points"]).max() + chord < 1e-3 * diagonal
+
+
+def test_refit_deviation_sees_a_bump_only_the_original_has():
+    """A closed box of 19,200 triangles with one vertex of its top raised by 0.1 (one grid cell
+    wide: below the 2,000-triangle proxy's resolution): the fit is measured against the
+    original, so its deviation shows the bump; without it the fit is exact."""
+    from stripweave.design import Design
+    from stripweave.strips import DesignSession
+    from stripweave.surfacing import fit_report, refit_design
+    belts = [[(5, 5, 10, 1, 0, 0)], [(5, 3, 0, 0, 1, 0)], [(3, 0, 5, 1, 0, 0)]]
+    v, t = box_grid(40)
+
+    def fit(vertices):
+        proxy = sw.from_mesh(vertices, t, target_triangles=2000)
+        assert "simplify" in proxy.timings_ms
+        return proxy, fit_report(refit_design(DesignSession(proxy, Design(belts))))
+
+    _, flat = fit(v)
+    assert flat["max_deviation"] < 1e-6
+    bumped = v.copy()
+    top = np.argmin(np.linalg.norm(v - [5.25, 5.25, 10], axis=1))
+    bumped[top, 2] += 0.1
+    proxy, fit_bumped = fit(bumped)
+    assert fit_bumped["max_deviation"] > max(0.02, fit_bumped["tolerance"])
+    assert not fit_bumped["tolerance_met"]

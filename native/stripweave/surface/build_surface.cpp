@@ -387,14 +387,6 @@ Surface surface_from_mesh(const TriangleMesh& raw, const SurfaceOptions& opt, Pr
     RemeshResult r = remesh_isotropic(mesh, std::vector<Index>(mesh.num_triangles(), 0), constrained, fixed, target,
                                       opt.remesh_iterations);
     mesh = std::move(r.mesh);
-    if (simplified) {
-      // The remesher projected onto the simplified mesh, whose collapsed
-      // vertices sit on chords: put the proxy's vertices on the original
-      // (the correspondence by projection; feature and boundary vertices are
-      // the original's own, or on its polylines, and stay).
-      project_onto(*s.source_mesh, s.similarity, mesh);
-      clock.lap("project");
-    }
     topo = MeshTopology::build(mesh);
     std::vector<bool> is_feature(topo.num_edges(), false);
     std::set<EdgeKey> kept(r.constrained_edges.begin(), r.constrained_edges.end());
@@ -404,6 +396,14 @@ Surface surface_from_mesh(const TriangleMesh& raw, const SurfaceOptions& opt, Pr
     for (Index v : r.constrained_vertices) is_end[v] = true;
     curves = chain_feature_curves(mesh, topo, classes, is_end, 0.0, edge_curve);
     clock.lap("remesh");
+    if (simplified) {
+      // The remesher projected onto the simplified mesh, whose collapsed
+      // vertices sit on chords: put the proxy's vertices on the original
+      // (the correspondence by projection; feature and boundary vertices are
+      // the original's own, or on its polylines, and stay).
+      project_onto(*s.source_mesh, s.similarity, mesh);
+      clock.lap("project");
+    }
   }
   s.mesh = std::move(mesh);
   finish_topology(s);
