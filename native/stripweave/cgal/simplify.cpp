@@ -1,10 +1,7 @@
 #include "stripweave/cgal/simplify.h"
 
-#include "stripweave/core/error.h"
+#include "stripweave/cgal/surface_mesh_adapter.h"
 
-// Must agree across the library's CGAL translation units (one definition rule).
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Surface_mesh.h>
 #include <CGAL/Surface_mesh_simplification/Edge_collapse_visitor_base.h>
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Bounded_normal_change_filter.h>
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Edge_length_cost.h>
@@ -17,10 +14,7 @@
 namespace stripweave {
 namespace {
 
-using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-using Mesh = CGAL::Surface_mesh<Kernel::Point_3>;
-using VertexId = Mesh::Vertex_index;
-using EdgeId = Mesh::Edge_index;
+using namespace cgal_mesh;
 namespace SMS = CGAL::Surface_mesh_simplification;
 
 // Midpoints, except where a vertex is fixed: there the fixed point (both
@@ -58,23 +52,11 @@ struct KeepFixed : SMS::Edge_collapse_visitor_base<Mesh> {
 
 SimplifyResult simplify_short_edges(const TriangleMesh& mesh, const std::vector<EdgeKey>& constrained_edges,
                                     const std::vector<Index>& constrained_vertices, double min_edge) {
-  const Index nv = mesh.num_vertices(), nt = mesh.num_triangles();
+  const Index nv = mesh.num_vertices();
   Mesh sm;
-  sm.reserve(static_cast<Mesh::size_type>(nv), static_cast<Mesh::size_type>(3 * nt / 2 + 3),
-             static_cast<Mesh::size_type>(nt));
-  auto source = sm.add_property_map<VertexId, Index>("v:stripweave_source", kInvalid).first;
+  auto source = fill_surface_mesh(sm, mesh, "simplify");
   auto fixed = sm.add_property_map<VertexId, bool>("v:stripweave_fixed", false).first;
   auto constrained = sm.add_property_map<EdgeId, bool>("e:stripweave_constrained", false).first;
-  for (Index v = 0; v < nv; ++v) {
-    const Vec3& p = mesh.positions[v];
-    source[sm.add_vertex(Kernel::Point_3(p.x(), p.y(), p.z()))] = v;
-  }
-  for (Index t = 0; t < nt; ++t) {
-    const Tri& f = mesh.triangles[t];
-    if (sm.add_face(VertexId(f[0]), VertexId(f[1]), VertexId(f[2])) == Mesh::null_face())
-      throw InputError("cannot simplify: triangle " + std::to_string(t) +
-                       " makes the mesh non-manifold or inconsistently oriented (sanitize the mesh first)");
-  }
   for (const EdgeKey& e : constrained_edges) {
     const auto [h, found] = CGAL::halfedge(VertexId(e[0]), VertexId(e[1]), sm);
     if (!found) continue;
@@ -99,19 +81,10 @@ SimplifyResult simplify_short_edges(const TriangleMesh& mesh, const std::vector<
   sm.collect_garbage();
 
   SimplifyResult out;
-  out.mesh.positions.reserve(sm.number_of_vertices());
+  out.mesh = mesh_of(sm);
   std::vector<Index> output_of_input(nv, kInvalid);
-  for (VertexId v : sm.vertices()) {
-    const auto& p = sm.point(v);
-    out.mesh.positions.emplace_back(p.x(), p.y(), p.z());
+  for (VertexId v : sm.vertices())
     if (fixed[v] && source[v] != kInvalid) output_of_input[source[v]] = static_cast<Index>(v.idx());
-  }
-  out.mesh.triangles.reserve(sm.number_of_faces());
-  for (auto f : sm.faces()) {
-    const auto h = sm.halfedge(f);
-    out.mesh.triangles.push_back({static_cast<Index>(sm.source(h).idx()), static_cast<Index>(sm.target(h).idx()),
-                                  static_cast<Index>(sm.target(sm.next(h)).idx())});
-  }
   for (EdgeId e : sm.edges())
     if (constrained[e] || sm.is_border(e))
       out.constrained_edges.push_back(
