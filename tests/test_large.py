@@ -243,3 +243,17 @@ def test_refit_deviation_sees_a_bump_only_the_original_has():
     proxy, fit_bumped = fit(bumped)
     assert fit_bumped["max_deviation"] > max(0.02, fit_bumped["tolerance"])
     assert not fit_bumped["tolerance_met"]
+
+
+def test_bench_scale_reports_every_figure_against_the_numpy_floor():
+    """`bench --scale` on one small size, without the weave (figures, not timed assertions)."""
+    from stripweave.bench_scale import run_scale
+    result = run_scale(sizes=(20000,), weave=False)
+    (entry,) = result["scale"]
+    assert "load_error" not in entry, entry
+    assert abs(entry["input_triangles"] - 20000) < 200 and entry["proxy_triangles"] > 0
+    for key in ("floor_s", "load_s", "proxy_s", "graph_s"):
+        assert entry[key] > 0
+    assert entry["load_ratio"] == pytest.approx(entry["load_s"] / entry["floor_s"], rel=0.05, abs=0.01)
+    assert 0 < entry["hover_ms"]["median"] <= entry["hover_ms"]["p95"] and entry["hover_ms"]["runs"] == 50
+    assert entry["load_peak_mb"] > 0
