@@ -89,6 +89,9 @@ def test_bench_json(torus_step):
     assert bench["refit_patches"] > 0
     assert 0 < bench["refit_s"]["median"] <= bench["refit_s"]["p95"] and bench["refit_s"]["runs"] == 2
     assert bench["refit"]["design"] in ("bench", "auto") and bench["refit"]["valid_shell"]
+    # What each part holds (issue 22): resident memory after it and the peak so far.
+    assert list(bench["memory_mb"]) == ["surface", "loops", "strips", "refit"]
+    assert all(0 < m["rss"] <= m["peak"] for m in bench["memory_mb"].values())
 
 
 def test_loop_json_contract(torus_step):

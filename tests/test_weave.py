@@ -196,7 +196,8 @@ def test_report_agrees_with_layout(woven_cube):
     # design.md's keys and the README's documented extras, nothing else (fit comes only with --step)
     assert set(on_disk) == {"valid", "strips", "patches", "regions", "irregular_vertices", "corner_deviation_deg",
                             "bbox_diagonal", "timings_ms", "clean", "defects", "peak_memory_mb",
-                            "input_triangles", "solver_triangles", "crease_conformity", "crease_conforming"}
+                            "input_triangles", "solver_triangles", "crease_conformity", "crease_conforming",
+                            "memory_mb"}
     assert on_disk["clean"] == layout["clean"] and on_disk["defects"] == layout["defects"]
     assert on_disk["crease_conformity"] == layout["crease_conformity"] == pytest.approx(1.0, abs=1e-6)
     assert on_disk["crease_conforming"] == layout["crease_conforming"]

@@ -2,9 +2,9 @@
 # Fuzz StripWeave's input parsers (issue 23). Opt-in: not part of the test suite or CI.
 #   tests/fuzz/run.sh [SECONDS]      default 60 per target
 # Targets:
-#   mesh    libFuzzer (clang, Debian's libfuzzer-15-dev) on the native OFF, OBJ and STL
+#   mesh    libFuzzer (clang, Debian's libfuzzer-15-dev) on the native OFF, OBJ, STL and PLY
 #           readers and sanitize_mesh, with AddressSanitizer and UBSan; seed corpus
-#           tests/fuzz/corpus/mesh (first byte: 0 OFF, 1 OBJ, 2 STL).
+#           tests/fuzz/corpus/mesh (first byte: 0 OFF, 1 OBJ, 2 STL, 3 PLY).
 #   design  tests/fuzz/fuzz_design.py, a mutation fuzzer of Design.load (Python: libFuzzer
 #           cannot drive it), seed corpus tests/fuzz/corpus/design; needs build/ (the bindings).
 # Work and findings go to build/fuzz/; a crashing input is build/fuzz/crash-* (add it to the
@@ -16,7 +16,9 @@ OUT=build/fuzz
 mkdir -p "$OUT/corpus-mesh"
 SOURCES=(native/stripweave/io/mesh_text.cpp native/stripweave/io/polygon_triangulation.cpp
          native/stripweave/io/read_off.cpp native/stripweave/io/read_obj.cpp native/stripweave/io/read_stl.cpp
+         native/stripweave/io/read_ply.cpp
          native/stripweave/surface/sanitize_mesh.cpp native/stripweave/surface/outlier_vertices.cpp
+         native/stripweave/surface/weld_vertices.cpp
          native/stripweave/surface/mesh_topology.cpp)
 clang++ -std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
   -Inative -I/usr/include/eigen3 tests/fuzz/fuzz_mesh_readers.cpp "${SOURCES[@]}" -o "$OUT/fuzz_mesh_readers"

@@ -11,6 +11,9 @@ network -> fitted B-spline patches -> sewn shell, no STEP file) on the bench's
 strip design when its layout is valid, else on an auto-woven design (weave.auto_weave),
 with refit_patches and a "refit" block (which design, deviation against the
 tolerance, patches over creases, shell validity). Target: 10 s for 100 patches.
+
+memory_mb {part: {"rss", "peak"}}: resident memory after the surface, loops, strips and
+refit parts and the peak so far (issue 22). `bench --scale` is bench_scale.py.
 """
 import os
 import statistics
@@ -88,6 +91,8 @@ def bench_loops(surface, hover_points=50, anchor_pairs=10, boundary="aligned"):
             hover_failed += 1
         hover.append((time.perf_counter() - start) * 1000.0)
     result["hover_ms"] = {**summary(hover), "no_loop": hover_failed}
+    if anchor_pairs < 1:
+        return result
     pairs = random_surface_points(surface, 2 * anchor_pairs, seed=2).reshape(anchor_pairs, 2, 3)
     two, two_failed = [], 0
     for a, b in pairs:
@@ -215,13 +220,26 @@ def bench_symmetry(surface, repeat=3):
 
 
 def run_bench(path, repeat=3, loops=True, strips=True, refit=True, **options):
+    """Every stage's figures; memory_mb gives the resident memory after each part and the
+    peak so far (MB), so what each part holds shows as the step between two entries."""
+    from .job import peak_memory_mb, resident_memory_mb
+    memory = {}
+
+    def note(part):
+        memory[part] = {"rss": resident_memory_mb(), "peak": peak_memory_mb()}
+
     surface, result = bench_surface(path, repeat=repeat, **options)
+    note("surface")
     result.update(bench_symmetry(surface, repeat=repeat))
     if loops:
         result.update(bench_loops(surface))
+        note("loops")
         if strips:
             sessions = []
             result.update(bench_strips(surface, repeat=repeat, sessions=sessions))
+            note("strips")
             if refit:
                 result.update(bench_refit(sessions[0], repeat=repeat))
+                note("refit")
+    result["memory_mb"] = memory
     return result

@@ -13,6 +13,9 @@
                     [--time-limit S] [--symmetry auto|none|reflect:..|rotate:..] [--symmetry-tolerance F]
                                          the main job: (automatic) design, layout, report, preview.png
     stripweave bench MODEL [--repeat N] [--no-refit]  stage timings and sizes (refit_s too), JSON
+    stripweave bench --scale [--sizes N,N,..] [--keep DIR] [--no-weave]
+                                         large inputs: ingest against numpy, proxy, hover, weave, peak
+                                         memory on a generated torus (bench_scale.py), JSON
     stripweave batch MODEL_OR_DIR... --out OUT [--step] [--jobs N] [--time-limit S] [--memory-limit MB]
                     [--scheduler ADDRESS] [--target-triangles N] [--budget UNITS] ...
                                          weave every model, one process each -> OUT/summary.json, .md,
@@ -166,6 +169,18 @@ def cmd_layout(args):
 
 
 def cmd_bench(args):
+    if args.scale:
+        from .bench_scale import run_scale
+        try:
+            sizes = tuple(int(float(x)) for x in args.sizes.split(","))
+        except ValueError:
+            raise _input_error(f"--sizes takes triangle counts separated by commas, got {args.sizes!r}") from None
+        if not sizes or min(sizes) < 1000:
+            raise _input_error(f"--sizes: each count must be at least 1000, got {args.sizes!r}")
+        print(json.dumps(run_scale(sizes, folder=args.keep, weave=not args.no_weave), indent=2))
+        return 0
+    if args.model is None:
+        raise _input_error("bench needs a MODEL (or --scale)")
     from .bench import run_bench
     print(json.dumps(run_bench(args.model, repeat=args.repeat, loops=not args.surface_only,
                                refit=not args.no_refit, **_surface_options(args)), indent=2))
@@ -350,7 +365,13 @@ def build_parser():
     p.set_defaults(run=cmd_batch)
 
     p = sub.add_parser("bench", help="time every pipeline stage (JSON)")
-    p.add_argument("model")
+    p.add_argument("model", nargs="?")
+    p.add_argument("--scale", action="store_true",
+                   help="no MODEL: a generated bumpy torus at --sizes triangles (ingest, proxy, hover, weave, "
+                        "peak memory against a numpy read)")
+    p.add_argument("--sizes", default="100000,1000000,5000000", help="--scale's triangle counts")
+    p.add_argument("--keep", default=None, metavar="DIR", help="--scale: keep the generated STL files here")
+    p.add_argument("--no-weave", action="store_true", help="--scale: skip weave --auto")
     p.add_argument("--repeat", type=int, default=3, help="runs per stage (median and p95 are reported)")
     p.add_argument("--json", action="store_true", help="accepted for symmetry: bench always prints JSON")
     p.add_argument("--surface-only", action="store_true", help="time the surface stage alone")

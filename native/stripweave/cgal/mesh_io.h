@@ -2,8 +2,9 @@
 //
 // read_mesh_file(path) -> TriangleMesh
 //   Formats by extension (case-insensitive): .stl (ASCII and binary), .obj,
-//   .off, .ply (ASCII and binary). Polygons with more than three corners are
-//   fan-triangulated; faces with fewer than three are skipped. The result is
+//   .off, .ply (ASCII and binary, either byte order), by the strict readers of
+//   io/mesh_readers.h. Polygons with more than three corners are
+//   ear-clipped; faces with fewer than three are skipped. The result is
 //   the raw soup as stored in the file: STL vertices are not welded (three per
 //   triangle), nothing is repaired (see sanitize_mesh).
 //   Throws InputError naming the file and the problem for a missing,

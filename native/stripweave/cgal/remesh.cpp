@@ -13,10 +13,9 @@
 
 #include "stripweave/core/error.h"
 
-// Must agree across the library's CGAL translation units (one definition rule).
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include "stripweave/cgal/surface_mesh_adapter.h"
+
 #include <CGAL/Polygon_mesh_processing/remesh.h>
-#include <CGAL/Surface_mesh.h>
 
 #include <cmath>
 #include <stdexcept>
@@ -26,13 +25,7 @@
 namespace stripweave {
 namespace {
 
-// Remeshing constructs points (midpoints, projections) and tests
-// orientations: an exact-predicates kernel is what CGAL supports here.
-using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-using Mesh = CGAL::Surface_mesh<Kernel::Point_3>;
-using VertexId = Mesh::Vertex_index;
-using EdgeId = Mesh::Edge_index;
-using FaceId = Mesh::Face_index;
+using namespace cgal_mesh;
 
 // Vertex point map that ignores writes to fixed vertices. CGAL 5.5's
 // isotropic_remeshing honours vertex_is_constrained_map when collapsing and
@@ -54,10 +47,6 @@ struct FixedAwarePointMap {
     if (!m.fixed[v]) m.points[v] = p;
   }
 };
-
-std::string point_text(const Vec3& p) {
-  return "(" + std::to_string(p.x()) + ", " + std::to_string(p.y()) + ", " + std::to_string(p.z()) + ")";
-}
 
 }  // namespace
 
@@ -82,28 +71,11 @@ RemeshResult remesh_isotropic(const TriangleMesh& mesh, const std::vector<Index>
   }
 
   Mesh sm;
-  sm.reserve(static_cast<Mesh::size_type>(nv), static_cast<Mesh::size_type>(3 * nt / 2 + 3),
-             static_cast<Mesh::size_type>(nt));
-  auto source = sm.add_property_map<VertexId, Index>("v:stripweave_source", kInvalid).first;
+  auto source = fill_surface_mesh(sm, mesh, "remesh");
   auto fixed = sm.add_property_map<VertexId, bool>("v:stripweave_fixed", false).first;
   auto constrained = sm.add_property_map<EdgeId, bool>("e:stripweave_constrained", false).first;
   auto patch = sm.add_property_map<FaceId, Index>("f:stripweave_patch", 0).first;
-
-  for (Index v = 0; v < nv; ++v) {
-    const Vec3& p = mesh.positions[v];
-    const VertexId vd = sm.add_vertex(Kernel::Point_3(p.x(), p.y(), p.z()));
-    source[vd] = v;  // vertex i of the input is Vertex_index(i)
-  }
-  for (Index t = 0; t < nt; ++t) {
-    const Tri& f = mesh.triangles[t];
-    const FaceId fd = sm.add_face(VertexId(f[0]), VertexId(f[1]), VertexId(f[2]));
-    if (fd == Mesh::null_face()) {
-      // The halfedge structure refuses exactly what remeshing cannot handle.
-      throw InputError("cannot remesh: triangle " + std::to_string(t) + " near " + point_text(mesh.positions[f[0]]) +
-                       " makes the mesh non-manifold or inconsistently oriented (sanitize the mesh first)");
-    }
-    patch[fd] = patch_of_triangle[t];
-  }
+  for (Index t = 0; t < nt; ++t) patch[FaceId(t)] = patch_of_triangle[t];  // face t is Face_index(t)
 
   for (const EdgeKey& e : constrained_edges) {
     const auto [h, found] =
@@ -141,24 +113,15 @@ RemeshResult remesh_isotropic(const TriangleMesh& mesh, const std::vector<Index>
   sm.collect_garbage();
 
   RemeshResult out;
-  out.mesh.positions.reserve(sm.number_of_vertices());
+  out.mesh = mesh_of(sm);
   out.source_vertex.reserve(sm.number_of_vertices());
   std::vector<Index> output_of_input(nv, kInvalid);
   for (VertexId v : sm.vertices()) {
-    const auto& p = sm.point(v);
-    out.mesh.positions.emplace_back(p.x(), p.y(), p.z());
     out.source_vertex.push_back(source[v]);
     if (source[v] != kInvalid) output_of_input[source[v]] = static_cast<Index>(v.idx());
   }
-  out.mesh.triangles.reserve(sm.number_of_faces());
   out.patch_of_triangle.reserve(sm.number_of_faces());
-  for (FaceId f : sm.faces()) {
-    const auto h = sm.halfedge(f);
-    // Walking the face's halfedges keeps the input's counter-clockwise order.
-    out.mesh.triangles.push_back({static_cast<Index>(sm.source(h).idx()), static_cast<Index>(sm.target(h).idx()),
-                                  static_cast<Index>(sm.target(sm.next(h)).idx())});
-    out.patch_of_triangle.push_back(patch[f]);
-  }
+  for (FaceId f : sm.faces()) out.patch_of_triangle.push_back(patch[f]);
   for (EdgeId e : sm.edges()) {
     const auto h = sm.halfedge(e), o = sm.opposite(h);
     const bool border = sm.is_border(h) || sm.is_border(o) || patch[sm.face(h)] != patch[sm.face(o)];

@@ -3,6 +3,8 @@
 #include "stripweave/cgal/jet_curvature.h"
 #include "stripweave/cgal/mesh_io.h"
 #include "stripweave/cgal/remesh.h"
+#include "stripweave/cgal/simplify.h"
+#include "stripweave/cgal/surface_locator.h"
 #include "stripweave/core/error.h"
 #include "stripweave/core/parallel.h"
 #include "stripweave/occt/brep_source.h"
@@ -38,6 +40,11 @@ double mesh_area(const TriangleMesh& m) {
 double edge_length_for(double area, Index count) {
   return 1.1 * std::sqrt(4.0 * area / (std::sqrt(3.0) * count));
 }
+
+// A mesh input more than this many times the target is simplified before it
+// is remeshed (simplify.h); below it the remesher alone is as fast, and the
+// solver meshes of ordinary inputs stay as they were.
+constexpr Index kSimplifyAbove = 8;
 
 // Coordinates beyond this (model units) are no model's: every later product
 // of a few of them must stay finite, the exact predicates' too.
@@ -96,6 +103,18 @@ TriangleMesh transformed(const TriangleMesh& m, const Similarity& s) {
   TriangleMesh out = m;
   for (Vec3& p : out.positions) p = s.to_normalized(p);
   return out;
+}
+
+// Every vertex of `m` (normalized units) to its nearest point on `original`
+// (model units).
+void project_onto(const TriangleMesh& original, const Similarity& sim, TriangleMesh& m) {
+  const SurfaceLocator locator(original);
+  SurfacePoint3 hint;
+  for (Index v = 0; v < m.num_vertices(); ++v) {
+    const Vec3 p = sim.to_model(m.positions[v]);
+    hint = hint.triangle == kInvalid ? locator.closest(p) : locator.closest(p, hint);
+    m.positions[v] = sim.to_normalized(hint.point);
+  }
 }
 
 std::vector<Vec3> area_weighted_normals(const TriangleMesh& m) {
@@ -357,8 +376,20 @@ Surface surface_from_mesh(const TriangleMesh& raw, const SurfaceOptions& opt, Pr
     for (const auto& c : curves)
       if (!c.closed) ends.insert(c.vertices.front()), ends.insert(c.vertices.back());
     const double target = edge_length_for(mesh_area(mesh), opt.target_triangles);
-    RemeshResult r = remesh_isotropic(mesh, std::vector<Index>(mesh.num_triangles(), 0), constrained,
-                                      std::vector<Index>(ends.begin(), ends.end()), target, opt.remesh_iterations);
+    std::vector<Index> fixed(ends.begin(), ends.end());
+    if (mesh.num_triangles() > kSimplifyAbove * opt.target_triangles) {
+      // A scan far denser than the solver mesh: collapse its short edges first
+      // (shortest first, to half the target length: about four times the target
+      // count), so the remesher's own collapsing starts near its size (§8.1).
+      SimplifyResult coarse = simplify_short_edges(mesh, constrained, fixed, 0.5 * target);
+      mesh = std::move(coarse.mesh);
+      constrained = std::move(coarse.constrained_edges);
+      fixed = std::move(coarse.constrained_vertices);
+      clock.lap("simplify");
+    }
+    const bool simplified = mesh.num_triangles() < s.source_mesh->num_triangles();
+    RemeshResult r = remesh_isotropic(mesh, std::vector<Index>(mesh.num_triangles(), 0), constrained, fixed, target,
+                                      opt.remesh_iterations);
     mesh = std::move(r.mesh);
     topo = MeshTopology::build(mesh);
     std::vector<bool> is_feature(topo.num_edges(), false);
@@ -369,6 +400,14 @@ Surface surface_from_mesh(const TriangleMesh& raw, const SurfaceOptions& opt, Pr
     for (Index v : r.constrained_vertices) is_end[v] = true;
     curves = chain_feature_curves(mesh, topo, classes, is_end, 0.0, edge_curve);
     clock.lap("remesh");
+    if (simplified) {
+      // The remesher projected onto the simplified mesh, whose collapsed
+      // vertices sit on chords: put the proxy's vertices on the original
+      // (the correspondence by projection; feature and boundary vertices are
+      // the original's own, or on its polylines, and stay).
+      project_onto(*s.source_mesh, s.similarity, mesh);
+      clock.lap("project");
+    }
   }
   s.mesh = std::move(mesh);
   finish_topology(s);

@@ -7,7 +7,10 @@
 //         exact normals and curvature there.
 // Mesh:   sanitize (repairs with warnings, or an InputError) -> sharp edges
 //         by dihedral angle, chained, short spurious chains dropped ->
-//         isotropic remesh with features and boundaries constrained ->
+//         (an input over 8 times the target: its short edges collapsed,
+//         features and boundaries kept) -> isotropic remesh with features
+//         and boundaries constrained -> (after a collapse: the proxy's
+//         vertices projected onto the original, paper §8.1) ->
 //         curvature by jet fitting over a neighbourhood scaled to the model.
 // Both end normalized to bounding-box diagonal 1 (paper §8).
 #pragma once

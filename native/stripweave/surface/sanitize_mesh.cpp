@@ -3,13 +3,13 @@
 #include "stripweave/core/error.h"
 #include "stripweave/surface/mesh_topology.h"
 #include "stripweave/surface/outlier_vertices.h"
+#include "stripweave/surface/weld_vertices.h"
 
 #include <algorithm>
 #include <cmath>
-#include <map>
-#include <set>
 #include <sstream>
-#include <unordered_map>
+#include <limits>
+#include <unordered_set>
 
 namespace stripweave {
 
@@ -42,29 +42,21 @@ void check_input(const TriangleMesh& raw) {
       }
 }
 
-// Weld vertices with identical coordinates: STL and many exporters store every
-// triangle's corners separately.
-TriangleMesh weld_coincident(const TriangleMesh& raw) {
-  TriangleMesh out;
-  std::map<std::array<double, 3>, Index> ids;
-  std::vector<Index> remap(raw.positions.size());
-  for (Index v = 0; v < raw.num_vertices(); ++v) {
-    const Vec3& p = raw.positions[v];
-    auto [it, inserted] = ids.emplace(std::array<double, 3>{p.x(), p.y(), p.z()}, out.num_vertices());
-    if (inserted) out.positions.push_back(p);
-    remap[v] = it->second;
-  }
-  out.triangles.reserve(raw.triangles.size());
-  for (const Tri& t : raw.triangles) out.triangles.push_back({remap[t[0]], remap[t[1]], remap[t[2]]});
-  return out;
-}
-
+// Triangles with a repeated vertex, and every later copy of a triangle (the
+// same three vertices in any order), are removed; the first copy stays where
+// it was. A hash of the sorted corners: a std::set of them took a second of a
+// million-triangle load.
 Index remove_repeated_and_duplicates(TriangleMesh& m, Index& duplicates) {
   Index repeated = 0;
   duplicates = 0;
-  std::set<std::array<Index, 3>> seen;
+  std::size_t capacity = 16;
+  while (capacity < 2 * m.triangles.size()) capacity *= 2;
+  const std::size_t mask = capacity - 1;
+  std::vector<Index> slot(capacity, kInvalid);  // a kept triangle, or empty
   std::vector<Tri> kept;
+  std::vector<std::array<Index, 3>> kept_key;
   kept.reserve(m.triangles.size());
+  kept_key.reserve(m.triangles.size());
   for (const Tri& t : m.triangles) {
     if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) {
       ++repeated;
@@ -72,11 +64,18 @@ Index remove_repeated_and_duplicates(TriangleMesh& m, Index& duplicates) {
     }
     std::array<Index, 3> key = t;
     std::sort(key.begin(), key.end());
-    if (!seen.insert(key).second) {
+    std::uint64_t h = (static_cast<std::uint64_t>(key[0]) * 0x9e3779b97f4a7c15ULL) ^
+                      (static_cast<std::uint64_t>(key[1]) * 0xc2b2ae3d27d4eb4fULL) ^
+                      (static_cast<std::uint64_t>(key[2]) * 0x165667b19e3779f9ULL);
+    std::size_t i = (h ^ (h >> 29)) & mask;
+    while (slot[i] != kInvalid && kept_key[slot[i]] != key) i = (i + 1) & mask;
+    if (slot[i] != kInvalid) {
       ++duplicates;
       continue;
     }
+    slot[i] = static_cast<Index>(kept.size());
     kept.push_back(t);
+    kept_key.push_back(key);
   }
   m.triangles.swap(kept);
   return repeated;
@@ -85,15 +84,45 @@ Index remove_repeated_and_duplicates(TriangleMesh& m, Index& duplicates) {
 // A zero-area triangle (a, b, c) with c on its longest edge ab is removed by
 // flipping ab in the pair (a,b,c),(b,a,d) into (c,a,d),(c,d,b): no hole opens.
 // On a boundary edge the cap is simply dropped.
+// The triangles on each edge, as (edge, triangle) pairs sorted by edge, then
+// by triangle (the order they were met in): flat, where a hash map of vectors
+// allocated one vector per edge of a million-triangle mesh.
+class EdgeTriangles {
+ public:
+  explicit EdgeTriangles(const TriangleMesh& m) {
+    pairs_.reserve(3 * m.triangles.size());
+    for (Index t = 0; t < m.num_triangles(); ++t)
+      for (int i = 0; i < 3; ++i) pairs_.push_back({pack_edge(edge_key(m.triangles[t][i], m.triangles[t][(i + 1) % 3])), t});
+    std::sort(pairs_.begin(), pairs_.end());
+  }
+  // The triangles of edge k, [begin, end).
+  std::pair<const std::pair<std::uint64_t, Index>*, const std::pair<std::uint64_t, Index>*> of(std::uint64_t k) const {
+    auto lo = std::lower_bound(pairs_.begin(), pairs_.end(), std::make_pair(k, std::numeric_limits<Index>::min()));
+    auto hi = lo;
+    while (hi != pairs_.end() && hi->first == k) ++hi;
+    return {pairs_.data() + (lo - pairs_.begin()), pairs_.data() + (hi - pairs_.begin())};
+  }
+  bool has(std::uint64_t k) const { return added_.count(k) || of(k).first != of(k).second; }
+  void add(std::uint64_t k) { added_.insert(k); }
+
+ private:
+  std::vector<std::pair<std::uint64_t, Index>> pairs_;
+  std::unordered_set<std::uint64_t> added_;  // edges a flip made in this pass
+};
+
+bool any_zero_area(const TriangleMesh& m, double eps) {
+  for (Index t = 0; t < m.num_triangles(); ++t)
+    if (!(triangle_normal_area2(m, t).norm() > eps)) return true;
+  return false;
+}
+
 Index repair_zero_area(TriangleMesh& m) {
   const double diag = bounding_box(m.positions).diagonal();
   const double eps = 1e-14 * diag * diag;
   Index repaired = 0;
   for (int pass = 0; pass < 3; ++pass) {
-    std::unordered_map<std::uint64_t, std::vector<Index>> by_edge;
-    for (Index t = 0; t < m.num_triangles(); ++t)
-      for (int i = 0; i < 3; ++i)
-        by_edge[pack_edge(edge_key(m.triangles[t][i], m.triangles[t][(i + 1) % 3]))].push_back(t);
+    if (!any_zero_area(m, eps)) break;  // most meshes: no edge table at all
+    EdgeTriangles by_edge(m);
     std::vector<bool> removed(m.triangles.size(), false), touched(m.triangles.size(), false);
     Index changed = 0;
     for (Index t = 0; t < m.num_triangles(); ++t) {
@@ -107,8 +136,8 @@ Index repair_zero_area(TriangleMesh& m) {
       }
       const Index a = f[longest], b = f[(longest + 1) % 3], c = f[(longest + 2) % 3];
       Index n = kInvalid;
-      for (Index o : by_edge[pack_edge(edge_key(a, b))])
-        if (o != t && !touched[o]) n = o;
+      for (auto [it, end] = by_edge.of(pack_edge(edge_key(a, b))); it != end; ++it)
+        if (it->second != t && !touched[it->second]) n = it->second;
       if (n == kInvalid) {  // a cap on the boundary: dropping it opens no hole
         removed[t] = touched[t] = true;
         ++changed;
@@ -117,11 +146,11 @@ Index repair_zero_area(TriangleMesh& m) {
       Index d = kInvalid;
       for (Index v : m.triangles[n])
         if (v != a && v != b) d = v;
-      if (d == kInvalid || d == c || by_edge.count(pack_edge(edge_key(c, d)))) continue;  // would duplicate an edge
+      if (d == kInvalid || d == c || by_edge.has(pack_edge(edge_key(c, d)))) continue;  // would duplicate an edge
       m.triangles[t] = {c, a, d};
       m.triangles[n] = {c, d, b};
       touched[t] = touched[n] = true;  // adjacency is stale for these until the next pass
-      by_edge[pack_edge(edge_key(c, d))];
+      by_edge.add(pack_edge(edge_key(c, d)));
       ++changed;
     }
     std::vector<Tri> kept;
