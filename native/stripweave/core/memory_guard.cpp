@@ -13,13 +13,22 @@ namespace stripweave {
 
 namespace {
 
-// Measured with `stripweave bench` (peak resident memory, README "Speed"):
-// see the README's memory-guard note for the runs these come from. Each is
-// rounded up: the guard must not pass work that then fails.
-constexpr double kBaseMb = 150;                       // the process with FreeCAD's libraries loaded
-constexpr double kSurfaceMbPerInputTriangle = 0.002;  // reading, sanitizing or welding, per input triangle
-constexpr double kSurfaceMbPerSolverTriangle = 0.004;  // remeshing, topology, curvature, per solver triangle
-constexpr double kGraphMbPerSolverTriangle = 0.03;    // graph, loop tables, strips, layout at k = 4, 30 degrees
+// Peak resident memory (/usr/bin/time) of `stripweave info` and `stripweave
+// bench --repeat 1 --no-refit` (loops and strips) on generated models, Release
+// build, December 2026:
+//   the process with its libraries (info, 100 triangles)            66 MB
+//   surface of a box STEP, 30k / 100k solver triangles               74 / 84 MB
+//   surface of a UV-sphere STL, 159k / 808k input, 30k solver       184 / 682 MB
+//     (0.77 kB per input triangle); 808k kept as they are (target 0) 470 MB
+//   bench of the box, 9.9k / 30.9k solver triangles                 159 / 392 MB
+//     (11.1 kB per solver triangle; graph_mb 28.5 / 98.6)
+// Each constant is the measurement rounded up by a third or more: the guard
+// must not pass work that then fails, and other stages (the layout, the
+// preview) add a little to what bench measures.
+constexpr double kBaseMb = 100;
+constexpr double kSurfaceMbPerInputTriangle = 0.001;
+constexpr double kSurfaceMbPerSolverTriangle = 0.0005;
+constexpr double kGraphMbPerSolverTriangle = 0.015;  // graph, loop engine, strips at k = 4, 30 degrees
 
 double limit_from_environment() {
   const char* text = std::getenv("STRIPWEAVE_MEMORY_LIMIT_MB");
@@ -60,8 +69,9 @@ double surface_memory_mb(double input_triangles, double solver_triangles) {
 double graph_memory_mb(double solver_triangles, int k, double max_turn_deg) {
   const double arcs = ring_vertices(k) * ring_vertices(k) * std::clamp(max_turn_deg, 1.0, 180.0);
   const double arcs_at_defaults = ring_vertices(4) * ring_vertices(4) * 30.0;
+  // The scaling by k and the turn is the arc count's, not measured at other values.
   return kBaseMb + kSurfaceMbPerSolverTriangle * solver_triangles +
-         kGraphMbPerSolverTriangle * solver_triangles * std::max(1.0, arcs / arcs_at_defaults);
+         kGraphMbPerSolverTriangle * solver_triangles * (arcs / arcs_at_defaults);
 }
 
 void check_memory(const std::string& work, double needed_mb) {
