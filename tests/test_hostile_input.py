@@ -507,3 +507,164 @@ def test_a_failed_picture_write_leaves_the_old_file_and_names_the_path(tmp_path)
             raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
     assert path.read_bytes() == b"the old picture"
     assert os.listdir(tmp_path) == ["preview.png"]
+
+
+# --- 7. loose-face B-reps are sewn ------------------------------------------------------------
+
+def _loose_box(tmp_path, ext, shells):
+    """A box written as 6 faces that share no edge (each face copied alone), or as 6 single-face
+    shells: how some exporters write an unsewn part."""
+    import Part
+    faces = [f.copy() for f in box(10).Faces]
+    parts = [Part.Shell([f]) for f in faces] if shells else faces
+    path = str(tmp_path / f"loose.{ext}")
+    shape = Part.makeCompound(parts)
+    shape.exportIges(path) if ext == "iges" else shape.exportStep(path)
+    return path
+
+
+@pytest.mark.parametrize("ext,shells", [("iges", False), ("step", False), ("step", True)])
+def test_loose_face_box_is_sewn_with_a_warning(tmp_path, ext, shells):
+    """Loose faces had no creases and no shared borders: weave found 6 components, no feature
+    curve, and reported a valid layout of 0 patches."""
+    r = run_cli("info", _loose_box(tmp_path, ext, shells), "--json", "--target-triangles", "3000")
+    assert r.returncode == 0, r.stderr
+    info = json.loads(r.stdout)
+    assert (info["components"], info["genus"], info["boundary_loops"]) == (1, 0, 0)
+    assert info["feature_curves"] == 12            # the box's 12 edges, creases again
+    sewn = [w for w in info["warnings"] if w.startswith("sewed")]
+    assert len(sewn) == 1 and "sewed 24 of 24 free edges" in sewn[0] and "0 free edges remain" in sewn[0]
+
+
+def test_an_open_sheet_is_not_sewn_and_says_nothing(tmp_path):
+    """A real boundary (a box without its lid, edges shared) stays free: no repair, no warning."""
+    import Part
+    path = str(tmp_path / "open.step")
+    Part.Shell(box(10).Faces[:5]).exportStep(path)
+    s = sw.load(path, target_triangles=2000)
+    r = s.report()
+    assert (r["components"], r["boundary_loops"]) == (1, 1)
+    assert not [w for w in r["warnings"] if "sewed" in w]
+
+
+# --- 8. the memory guard ----------------------------------------------------------------------
+
+def test_memory_guard_refuses_a_target_beyond_the_limit_before_the_work(box_stl):
+    """A fake small limit (STRIPWEAVE_MEMORY_LIMIT_MB): the same run that fits is refused with
+    one line once its estimate is over the limit, before any allocation (no exhaustion)."""
+    ok = run_cli("info", box_stl, "--target-triangles", "2000", "--memory-limit", "400")
+    assert ok.returncode == 0, ok.stderr
+    r = run_cli("info", box_stl, "--target-triangles", "1000000", "--memory-limit", "400", timeout=60)
+    assert r.returncode == 1 and r.stderr.count("\n") == 1, r.stderr
+    assert "1000000 solver triangles" in r.stderr and "more than the 400 MB allowed" in r.stderr
+
+
+def test_memory_guard_refuses_the_elastica_graph_beyond_the_limit(box_mesh, monkeypatch):
+    """The graph is weaving's largest allocation: it has a check of its own, with the same limit."""
+    from stripweave.loops import LoopSession
+    surface = sw.from_mesh(*box_mesh, target_triangles=20000)
+    monkeypatch.setenv("STRIPWEAVE_MEMORY_LIMIT_MB", "300")   # the surface fits, its graph does not
+    with pytest.raises(sw.InputError, match=r"the elastica graph of \d+ triangles \(k = 4\) needs about \d+ MB, "
+                                            r"more than the 300 MB allowed"):
+        LoopSession(surface)
+    monkeypatch.setenv("STRIPWEAVE_MEMORY_LIMIT_MB", "0.5x")
+    with pytest.raises(sw.InputError, match="STRIPWEAVE_MEMORY_LIMIT_MB must be a positive number"):
+        sw.from_mesh(*box_mesh, target_triangles=2000)
+
+
+@pytest.mark.parametrize("limit", ["0", "-5", "nan", "inf"])
+def test_memory_limit_option_out_of_range_is_refused(box_stl, limit):
+    r = run_cli("info", box_stl, f"--memory-limit={limit}")
+    assert r.returncode == 1 and r.stderr.count("\n") == 1 and "--memory-limit must be a positive" in r.stderr
+
+
+# --- 9. floating-point traps inside native calls ----------------------------------------------
+
+def test_sigfpe_inside_a_native_call_is_an_input_error_and_the_process_lives():
+    """GMP raises SIGFPE on a division by zero (and aborts if the handler returns): inside a
+    binding it must become an InputError, on the caller's thread and on parallel_for's workers,
+    again and again (the signal must not stay blocked), and floating-point traps a host enabled
+    must not fire inside the call."""
+    r = run_python("""
+import stripweave as sw
+from stripweave._native import native
+for kind in ["gmp", "gmp", "gmp-worker", "raise", "gmp"]:
+    try:
+        native._fp_trap_test(kind)
+        print("no error", kind)
+    except sw.InputError as e:
+        print("InputError", kind, "floating-point trap" in str(e))
+native._fp_trap_test("float")
+print("alive")
+""", timeout=60)
+    assert r.returncode == 0, (r.returncode, r.stderr[-500:])
+    assert r.stdout.split("\n") == ["InputError gmp True", "InputError gmp True", "InputError gmp-worker True",
+                                    "InputError raise True", "InputError gmp True", "alive", ""]
+
+
+def test_sigfpe_outside_native_calls_keeps_its_default_action():
+    """The handler passes a SIGFPE raised outside any native call on (here: the default action)."""
+    r = run_python("""
+import os, signal
+from stripweave._native import native
+try:
+    native._fp_trap_test("gmp")
+except Exception:
+    pass
+os.kill(os.getpid(), signal.SIGFPE)
+print("survived")
+""", timeout=60)
+    assert r.returncode == -8 and "survived" not in r.stdout
+
+
+# --- 10. two writers into one folder ----------------------------------------------------------
+
+def test_two_concurrent_weave_runs_into_one_out_never_mix(tmp_path, box_stl):
+    """Two `weave` processes with different designs into one --out: both succeed (the second waits
+    on the folder's lock) and design.json, layout.json and report.json come from one run."""
+    from stripweave.design import Design
+    designs = {1: Design([[(5, 5, 10, 1, 0, 0)]]), 2: Design([[(5, 5, 10, 1, 0, 0)], [(5, 5, 10, 0, 1, 0)]])}
+    out = tmp_path / "out"
+    for trial in range(3):
+        procs = []
+        for n, d in designs.items():
+            d.save(str(tmp_path / f"d{n}.json"))
+            procs.append(subprocess.Popen(
+                [LAUNCHER, "weave", box_stl, "--design", str(tmp_path / f"d{n}.json"), "--out", str(out),
+                 "--target-triangles", "2000", "--json"], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                text=True, env=ENV))
+        results = [p.communicate(timeout=300) for p in procs]
+        for p, (stdout, stderr) in zip(procs, results):
+            assert p.returncode == 0, stderr
+        design = Design.load(str(out / "design.json"))
+        report = json.loads((out / "report.json").read_text())
+        layout = json.loads((out / "layout.json").read_text())
+        n = len(design.strips)
+        assert n in designs and report["strips"] == n
+        assert len(layout["patches"]) == report["patches"]
+        # the run whose design survived wrote these very files: its own --json summary says so
+        summary = json.loads(results[n - 1][0])
+        assert (summary["patches"], summary["strips"]) == (report["patches"], report["strips"])
+        assert summary["paths"]["design"] == str(out / "design.json")
+
+
+def test_concurrent_saves_from_two_processes_never_show_a_reader_a_broken_file(tmp_path):
+    """Two processes save different designs 100 times each into one path while this one reads it:
+    every read is valid JSON from a single writer (0 corrupt or mixed files)."""
+    path = str(tmp_path / "design.json")
+    from stripweave.design import Design
+    _design(0).save(path)
+    code = ("import sys\nsys.path.insert(0, {tests!r})\nfrom test_hostile_input import _design\n"
+            "d = _design({n})\nfor _ in range(100):\n    d.save({path!r})\n")
+    procs = [subprocess.Popen([sys.executable, "-c", code.format(tests=os.path.join(REPO, "tests"), n=n, path=path)],
+                              env=ENV, stderr=subprocess.PIPE, text=True) for n in (0, 1)]
+    reads = bad = 0
+    while any(p.poll() is None for p in procs) or reads < 100:
+        loaded = Design.load(path)
+        writers = {a.point[1] for s in loaded.strips for a in s.anchors}
+        bad += len(writers) != 1 or loaded.model["writer"] not in writers or len(loaded.strips) != 300
+        reads += 1
+    for p in procs:
+        assert p.wait() == 0, p.stderr.read()
+    assert bad == 0 and reads >= 100
+    assert os.listdir(tmp_path) == ["design.json"]

@@ -1,6 +1,7 @@
 // The parts of the _stripweave module, one file per pipeline stage.
 #pragma once
 
+#include "stripweave/core/fp_guard.h"
 #include "stripweave/elastica/loop_session.h"
 
 #include <pybind11/pybind11.h>
@@ -9,6 +10,14 @@
 #include <vector>
 
 namespace stripweave_python {
+// How a binding runs the core: the GIL released (a long computation must not
+// freeze FreeCAD's GUI) and floating-point traps turned into an InputError
+// (core/fp_guard.h: masked, and GMP's SIGFPE thrown), so that no native
+// failure kills the process. The guard ends before the GIL is taken back.
+struct NativeCall {
+  pybind11::gil_scoped_release release;
+  stripweave::FloatingPointGuard guard;
+};
 // Shared by the stage bindings (defined in bind_loops.cpp).
 // An anchor as (x, y, z) or (x, y, z, dx, dy, dz) in model units.
 // InputError for a non-finite point, one over 1e3 diagonals from the model, a zero direction.

@@ -75,7 +75,7 @@ void bind_design(py::module_& m) {
           "set_strips",
           [](DesignState& d, const std::vector<std::vector<std::vector<double>>>& strips) {
             const std::vector<StripSpec> specs = specs_from(d.surface(), strips);
-            py::gil_scoped_release release;
+            stripweave_python::NativeCall release;
             d.set_strips(specs);
           },
           py::arg("strips"), "Each strip as its anchors, (x,y,z) or (x,y,z,dx,dy,dz) in model units")

@@ -88,7 +88,7 @@ void bind_field(py::module_& m) {
         SurfacePath path;
         std::vector<PathSegment> segments;
         {
-          py::gil_scoped_release release;
+          stripweave_python::NativeCall release;
           path = session.embed(loop);
           segments = path_segments(s, path, loop.closed);
         }
@@ -118,7 +118,7 @@ void bind_field(py::module_& m) {
         const Surface& s = session.surface();
         CrossField field;
         {
-          py::gil_scoped_release release;
+          stripweave_python::NativeCall release;
           std::vector<std::vector<PathSegment>> segments;
           segments.reserve(loops.size());
           for (const Loop& loop : loops) segments.push_back(path_segments(s, session.embed(loop), loop.closed));

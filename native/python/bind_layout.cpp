@@ -297,7 +297,7 @@ void bind_layout(py::module_& m, py::class_<DesignState, std::shared_ptr<DesignS
         const std::vector<Singularity> singular = singularities_from(s, singular_vertices, quarter_indices);
         DesignLayout dl;
         {
-          py::gil_scoped_release release;
+          stripweave_python::NativeCall release;
           std::vector<LoopPath> paths = embed_loops(session, loops);
           dl = layout_of(s, paths, singular, true);
         }
@@ -311,7 +311,7 @@ void bind_layout(py::module_& m, py::class_<DesignState, std::shared_ptr<DesignS
       [](const DesignState& d, const std::vector<Loop>& extra, bool details) {
         DesignLayout dl;
         {
-          py::gil_scoped_release release;
+          stripweave_python::NativeCall release;
           dl = design_layout(d, true, extra);
         }
         return layout_dict(d.surface(), d.field().singularities, dl, details);
@@ -325,7 +325,7 @@ void bind_layout(py::module_& m, py::class_<DesignState, std::shared_ptr<DesignS
       [](const DesignState& d, bool details) {
         DesignLayout dl;
         {
-          py::gil_scoped_release release;
+          stripweave_python::NativeCall release;
           dl = design_layout(d, false);
         }
         return regions_dict(d.surface(), d.field().singularities, dl.computed, details);
@@ -336,7 +336,7 @@ void bind_layout(py::module_& m, py::class_<DesignState, std::shared_ptr<DesignS
       [](const DesignState& d, bool details) {
         DesignLayout dl;
         {
-          py::gil_scoped_release release;
+          stripweave_python::NativeCall release;
           dl = design_layout(d, true);
         }
         return layout_dict(d.surface(), d.field().singularities, dl, details);
@@ -348,7 +348,7 @@ void bind_layout(py::module_& m, py::class_<DesignState, std::shared_ptr<DesignS
         PatchNetwork net;
         Index layout_patches = 0;
         {
-          py::gil_scoped_release release;
+          stripweave_python::NativeCall release;
           const DesignLayout dl = design_layout(d, true);
           net = patch_network_of(d.surface(), dl.computed.arrangement, dl.layout);
           layout_patches = static_cast<Index>(dl.layout.patches.size());

@@ -129,7 +129,7 @@ void bind_loops(py::module_& m) {
   py::class_<LoopSession, std::shared_ptr<LoopSession>>(m, "LoopSession",
                                                         "The elastica graph of a surface and its loop queries")
       .def(py::init([](std::shared_ptr<Surface> surface, const ElasticaParams& params, Progress* progress) {
-             py::gil_scoped_release release;
+             stripweave_python::NativeCall release;
              return std::make_shared<LoopSession>(surface, params, progress);
            }),
            py::arg("surface"), py::arg("params") = ElasticaParams(), py::arg("progress") = nullptr)
@@ -154,21 +154,21 @@ void bind_loops(py::module_& m) {
              std::vector<Anchor> parsed;
              for (const auto& a : anchors) parsed.push_back(anchor_from(s.surface(), a));
              check_anchor_chain(parsed);
-             py::gil_scoped_release release;
+             stripweave_python::NativeCall release;
              return s.loops(parsed, count, allow_open);
            },
            py::arg("anchors"), py::arg("count") = 1, py::arg("allow_open") = true,
            "Up to `count` distinct loops through the anchors (model units), cheapest first")
       .def("best_loop", [](LoopSession& s, const std::vector<double>& point, bool allow_open) {
              const Anchor a = anchor_from(s.surface(), point);
-             py::gil_scoped_release release;
+             stripweave_python::NativeCall release;
              return s.best_loop(a.point, allow_open);
            },
            py::arg("point"), py::arg("allow_open") = true, "Hover: the best loop through a point, all directions")
       .def("embed", [](const LoopSession& s, const Loop& loop) {
              SurfacePath p;
              {
-               py::gil_scoped_release release;
+               stripweave_python::NativeCall release;
                p = s.embed(loop);
              }
              return path_dict(s.surface(), p);

@@ -182,7 +182,7 @@ void bind_param(py::module_& m) {
   m.def("parameterize", [](const LoopSession& session, const std::vector<Loop>& loops, bool features, bool boundary) {
         Solved solved;
         {
-          py::gil_scoped_release release;
+          stripweave_python::NativeCall release;
           solved = solve(session, loops, features, boundary);
         }
         return to_dict(session.surface(), solved);

@@ -213,7 +213,7 @@ void bind_regions(py::module_& m) {
         const std::vector<Singularity> singular = singularities_from(s, singular_vertices, quarter_indices);
         Computed c;
         {
-          py::gil_scoped_release release;
+          stripweave_python::NativeCall release;
           const auto t0 = Clock::now();
           std::vector<LoopPath> paths = embed_loops(session, loops);
           const double embed_ms = millis(t0, Clock::now());
@@ -256,7 +256,7 @@ void bind_regions(py::module_& m) {
         }
         Computed c;
         {
-          py::gil_scoped_release release;
+          stripweave_python::NativeCall release;
           c = compute(s, loops, singular);
         }
         return regions_dict(s, singular, c, details);

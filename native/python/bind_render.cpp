@@ -66,7 +66,7 @@ void bind_render(py::module_& m) {
         if (width < 0 || height < 0) throw InputError("rasterize: the image size must not be negative");
         Raster r;
         {
-          py::gil_scoped_release release;
+          stripweave_python::NativeCall release;
           r = rasterize(points, tris, width, height);
         }
         const py::ssize_t n = static_cast<py::ssize_t>(r.triangle.size());
@@ -137,7 +137,7 @@ void bind_render(py::module_& m) {
         }
         std::vector<Vec3> rgb;
         {
-          py::gil_scoped_release release;
+          stripweave_python::NativeCall release;
           rgb = shade(raster, points, tris, vertex_normals, look);
         }
         py::array_t<double> out({n, static_cast<py::ssize_t>(3)});

@@ -240,7 +240,7 @@ void bind_surfacing(py::module_& m) {
         std::string brep;
         double total_s = 0;
         {
-          py::gil_scoped_release release;
+          stripweave_python::NativeCall release;
           const auto start = std::chrono::steady_clock::now();
           result = fit_patch_network(surface, net, options);
           if (step_path) read_back = write_step(result, *step_path);
@@ -322,7 +322,7 @@ void bind_surfacing(py::module_& m) {
         options.spacing = spacing, options.chord = chord;
         FitDeviation r;
         {
-          py::gil_scoped_release release;
+          stripweave_python::NativeCall release;
           r = fit_deviation(surface, P, tolerance, options);
         }
         py::dict d;

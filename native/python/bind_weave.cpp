@@ -79,7 +79,7 @@ void bind_weave(py::module_& m) {
         UncoveredArea uncovered;
         double ms = 0;
         {
-          py::gil_scoped_release release;
+          stripweave_python::NativeCall release;
           const auto t0 = std::chrono::steady_clock::now();
           std::vector<LoopPath> paths;
           std::vector<const std::vector<std::uint8_t>*> covered;

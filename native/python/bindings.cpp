@@ -218,13 +218,13 @@ PYBIND11_MODULE(_stripweave, m) {
       .def_property_readonly("is_brep", [](const Surface& s) { return static_cast<bool>(s.brep); });
 
   m.def("load_file", [](const std::string& path, const SurfaceOptions& options, Progress* progress) {
-        py::gil_scoped_release release;
+        stripweave_python::NativeCall release;
         return std::make_shared<Surface>(load_surface(path, options, progress));
       }, py::arg("path"), py::arg("options") = SurfaceOptions(), py::arg("progress") = nullptr,
       "Build the surface model from a STEP/IGES/BREP or STL/OBJ/OFF/PLY file");
 
   m.def("from_brep_string", [](const std::string& text, const SurfaceOptions& options, Progress* progress) {
-        py::gil_scoped_release release;
+        stripweave_python::NativeCall release;
         return std::make_shared<Surface>(surface_from_brep(BrepSource::from_brep_string(text), options, progress));
       }, py::arg("brep"), py::arg("options") = SurfaceOptions(), py::arg("progress") = nullptr,
       "Build the surface model from a BREP string (Shape.exportBrepToString())");
@@ -232,7 +232,7 @@ PYBIND11_MODULE(_stripweave, m) {
   m.def("from_arrays", [](const Array3d& vertices, const Array3i& triangles, const SurfaceOptions& options,
                           Progress* progress) {
         TriangleMesh mesh = mesh_from_arrays(vertices, triangles);
-        py::gil_scoped_release release;
+        stripweave_python::NativeCall release;
         return std::make_shared<Surface>(surface_from_mesh(mesh, options, progress));
       }, py::arg("vertices"), py::arg("triangles"), py::arg("options") = SurfaceOptions(),
       py::arg("progress") = nullptr, "Build the surface model from (N,3) vertices and (M,3) triangles");
@@ -240,7 +240,7 @@ PYBIND11_MODULE(_stripweave, m) {
   m.def("read_mesh", [](const std::string& path) {
         TriangleMesh mesh;
         {
-          py::gil_scoped_release release;
+          stripweave_python::NativeCall release;
           mesh = read_mesh_file(path);
         }
         return py::make_tuple(rows<double, 3>(mesh.num_vertices(), [&](Index v) { return mesh.positions[v]; }),
@@ -249,9 +249,15 @@ PYBIND11_MODULE(_stripweave, m) {
 
   m.def("write_mesh", [](const std::string& path, const Array3d& vertices, const Array3i& triangles) {
         TriangleMesh mesh = mesh_from_arrays(vertices, triangles);
-        py::gil_scoped_release release;
+        stripweave_python::NativeCall release;
         write_mesh_file(path, mesh);
       }, py::arg("path"), py::arg("vertices"), py::arg("triangles"));
+
+  m.def("_fp_trap_test", [](const std::string& kind) {
+        stripweave_python::NativeCall release;
+        raise_fp_trap_for_test(kind);
+      }, py::arg("kind"), "Test entry (core/fp_guard.h): a floating-point trap inside a native call, which must "
+      "end in an InputError (or nothing), never in a signal: gmp, gmp-worker, raise, float");
 
   stripweave_python::bind_loops(m);
   stripweave_python::bind_field(m);

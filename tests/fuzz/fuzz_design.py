@@ -97,7 +97,7 @@ def main():
         finally:
             signal.setitimer(signal.ITIMER_REAL, 0)
     print(f"design fuzzer: {runs} inputs in {args.seconds:g} s, {loaded} loaded, {refused} refused "
-          f"(InputError), {findings} findings")
+          f"(InputError), corpus {len(corpus)}, {findings} findings")
     return 1 if findings else 0
 
 

@@ -39,6 +39,9 @@ def _add_surface_options(p):
                         "or the design's)")
     g.add_argument("--deflection", type=float, default=0.0,
                    help="B-rep chordal deflection in model units (default: 1e-3 of the diagonal)")
+    g.add_argument("--memory-limit", type=float, default=None, metavar="MB", dest="memory_guard_mb",
+                   help="refuse work estimated to need more memory than this, before it starts (default: "
+                        "MemAvailable of /proc/meminfo; also the STRIPWEAVE_MEMORY_LIMIT_MB variable)")
 
 
 def _surface_options(args):
@@ -386,6 +389,12 @@ def main(argv=None):
     from ._native import native
     from .files import check_out_dir
     try:
+        limit = getattr(args, "memory_guard_mb", None)   # batch's --memory-limit is its own (a kill limit)
+        if limit is not None:
+            if not limit > 0 or limit == float("inf"):
+                raise native.InputError(f"--memory-limit must be a positive number of MB, got {limit:g}")
+            # The native guard (core/memory_guard.h) reads it at every stage; batch's runs inherit it.
+            os.environ["STRIPWEAVE_MEMORY_LIMIT_MB"] = f"{limit:g}"
         if getattr(args, "out", None) is not None:
             check_out_dir(args.out)   # before the work: an unusable folder is found at once
         return args.run(args)

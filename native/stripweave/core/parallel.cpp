@@ -1,12 +1,15 @@
 // See parallel.h.
 #include "stripweave/core/parallel.h"
 
+#include "stripweave/core/fp_guard.h"
+
 #include <sched.h>
 
 #include <algorithm>
 #include <atomic>
 #include <exception>
 #include <mutex>
+#include <optional>
 #include <thread>
 #include <vector>
 
@@ -31,7 +34,12 @@ void parallel_for_workers(Index n, const std::function<void(Index, unsigned)>& b
   std::atomic<Index> next{0};
   std::exception_ptr error;
   std::mutex error_mutex;
+  // A caller's floating-point guard holds on the helper threads too: their
+  // SIGFPE becomes the same InputError, rethrown below.
+  const bool guarded = FloatingPointGuard::active();
   auto work = [&](unsigned worker) {
+    std::optional<FloatingPointGuard> guard;
+    if (guarded && worker > 0) guard.emplace();
     for (Index i = next++; i < n; i = next++) {
       try {
         body(i, worker);

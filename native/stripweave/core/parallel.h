@@ -8,6 +8,8 @@
 //   The bodies must be independent (each writes only its own slots), so the
 //   result does not depend on the thread count or the scheduling. The first
 //   exception a body throws is rethrown after all threads have finished.
+//   When the caller holds a FloatingPointGuard (core/fp_guard.h), so does
+//   every helper thread: a SIGFPE there is the same InputError, rethrown.
 // parallel_for_workers(n, body, max_threads) -> the same, body(i, worker).
 #pragma once
 

@@ -1,5 +1,7 @@
 #include "stripweave/elastica/loop_session.h"
 
+#include "stripweave/core/memory_guard.h"
+
 #include "stripweave/cgal/surface_locator.h"
 #include "stripweave/core/error.h"
 
@@ -12,6 +14,11 @@ namespace stripweave {
 LoopSession::LoopSession(std::shared_ptr<const Surface> surface, const ElasticaParams& params, Progress* progress)
     : surface_(std::move(surface)) {
   const auto start = std::chrono::steady_clock::now();
+  // The graph is the largest allocation of weaving: refused before it is
+  // built when it would not fit (core/memory_guard.h).
+  const Index triangles = surface_->mesh.num_triangles();
+  check_memory("the elastica graph of " + std::to_string(triangles) + " triangles (k = " + std::to_string(params.k) + ")",
+               graph_memory_mb(triangles, params.k, params.max_turn_deg));
   graph_ = build_elastica_graph(*surface_, params, progress);
   locator_ = std::make_unique<SurfaceLocator>(surface_->mesh);
   tables_ = loop_tables(*surface_, graph_);

@@ -1,6 +1,7 @@
 #include "stripweave/occt/brep_source.h"
 #include "stripweave/occt/occt_messages.h"
 #include "stripweave/occt/brep_source_impl.h"
+#include "stripweave/occt/sew_loose_faces.h"
 
 #include "stripweave/core/error.h"
 
@@ -129,6 +130,12 @@ std::shared_ptr<BrepSource> BrepSource::from_brep_string(const std::string& text
 
 std::shared_ptr<BrepSource> BrepSource::checked(std::unique_ptr<Impl> impl, const std::string& what) {
   if (impl->faces.Extent() == 0) throw InputError(what + " has no faces (only wires, edges or vertices)");
+  std::vector<std::string> warnings;
+  const TopoDS_Shape sewn = sew_loose_faces(impl->shape, warnings);
+  if (!warnings.empty()) {
+    impl = std::make_unique<Impl>(sewn);
+    impl->warnings = std::move(warnings);
+  }
   Index overloaded = 0;
   for (Index e = 0; e < impl->edges.Extent(); ++e)
     if (impl->faces_of_edge(e).size() > 2 || impl->edge_use_count(e) > 2) ++overloaded;
@@ -143,6 +150,8 @@ std::shared_ptr<BrepSource> BrepSource::thread_copy() const {
 }
 
 void BrepSource::forget_warm_starts() const { std::fill(impl_->has_last_uv.begin(), impl_->has_last_uv.end(), 0); }
+
+const std::vector<std::string>& BrepSource::warnings() const { return impl_->warnings; }
 
 Index BrepSource::num_faces() const { return impl_->faces.Extent(); }
 Index BrepSource::num_edges() const { return impl_->edges.Extent(); }

@@ -6,7 +6,10 @@
 //                            (.brep/.brp), by extension
 //   from_brep_string(text)   as FreeCAD's Shape.exportBrepToString() gives it
 //   Both throw InputError for an unreadable file, a shape with no faces, or a
-//   non-manifold shape (an edge shared by more than two faces).
+//   non-manifold shape (an edge shared by more than two faces). Loose faces
+//   (free edges that coincide) are sewn into shells first, with a warning
+//   (occt/sew_loose_faces.h): face and edge ids are the sewn shape's.
+//   warnings()  the repairs made on reading, one line each
 //
 // Queries (face and edge ids index OCCT's TopExp face/edge maps, 0-based)
 //   tessellate(deflection, angle)  BRepMesh_IncrementalMesh, then the per-face
@@ -47,6 +50,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace stripweave {
 
@@ -93,6 +97,7 @@ class BrepSource {
   static std::shared_ptr<BrepSource> from_brep_string(const std::string& text);
   ~BrepSource();
 
+  const std::vector<std::string>& warnings() const;
   Index num_faces() const;
   Index num_edges() const;
   BoundingBox bounding_box() const;

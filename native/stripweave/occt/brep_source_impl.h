@@ -23,6 +23,7 @@
 #include <algorithm>
 #include <array>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace stripweave {
@@ -37,6 +38,7 @@ struct BrepSource::Impl {
   mutable std::vector<std::unique_ptr<BRepTopAdaptor_FClass2d>> classifiers;  // per face, lazily
   mutable std::vector<std::unique_ptr<BRepAdaptor_Surface>> adaptors;  // per face, lazily (foot_on_face)
   mutable std::vector<std::array<double, 4>> uv_box;                   // per face with an adaptor: u0, u1, v0, v1
+  std::vector<std::string> warnings;                                   // repairs made on reading (sewing)
 
   explicit Impl(const TopoDS_Shape& s) : shape(s) {
     TopExp::MapShapes(shape, TopAbs_FACE, faces);

@@ -6,6 +6,7 @@
 #include "stripweave/cgal/simplify.h"
 #include "stripweave/cgal/surface_locator.h"
 #include "stripweave/core/error.h"
+#include "stripweave/core/memory_guard.h"
 #include "stripweave/core/parallel.h"
 #include "stripweave/occt/brep_source.h"
 #include "stripweave/surface/creases.h"
@@ -90,6 +91,16 @@ void check_options(const SurfaceOptions& o) {
     fail("the curvature radius must be within [0, 1] (of the diagonal; 0: automatic)", o.curvature_radius);
   if (o.remesh_iterations < 0 || o.remesh_iterations > 100)
     fail("the remeshing iterations must be within [0, 100]", o.remesh_iterations);
+}
+
+// The memory guard (core/memory_guard.h), before the stage allocates: with
+// the input's triangle count once it is known (0 before), and the solver
+// mesh's (the target, or the input kept as it is).
+void check_surface_memory(Index input_triangles, const SurfaceOptions& o) {
+  const Index solver = o.target_triangles > 0 ? o.target_triangles : input_triangles;
+  std::ostringstream work;
+  work << "building the surface (" << input_triangles << " input triangles, " << solver << " solver triangles)";
+  check_memory(work.str(), surface_memory_mb(input_triangles, solver));
 }
 
 // A solver mesh kept as given (target 0) must fit the same bound as a target.
@@ -215,10 +226,12 @@ Surface surface_from_brep(std::shared_ptr<const BrepSource> brep, const SurfaceO
   Surface s;
   Stopwatch clock(s.timings);
   stage(progress, "tessellating", 0.0, 0.3);
+  check_surface_memory(0, opt);
   const BoundingBox box = brep->bounding_box();
   const double model_diag = box.diagonal();
   if (!(model_diag > 0)) throw InputError("the shape has zero size");
   const double deflection = opt.deflection > 0 ? opt.deflection : opt.relative_deflection * model_diag;
+  s.warnings = brep->warnings();  // the sewing of loose faces
   BrepTessellation tess = brep->tessellate(deflection, opt.angular_deflection_deg * M_PI / 180.0);
   if (tess.mesh.triangles.empty()) throw InputError("OpenCASCADE produced no triangles for the shape");
   if (Index gaps = fill_tessellation_gaps(tess, *brep))
@@ -226,6 +239,7 @@ Surface surface_from_brep(std::shared_ptr<const BrepSource> brep, const SurfaceO
   clock.lap("tessellate");
   s.input_triangles = tess.mesh.num_triangles();
   check_kept_size(s.input_triangles, opt);
+  check_surface_memory(s.input_triangles, opt);
   s.brep = brep;
   s.brep_faces = brep->num_faces();
   s.similarity = normalizing_similarity(bounding_box(tess.mesh.positions));
@@ -346,6 +360,7 @@ Surface surface_from_mesh(const TriangleMesh& raw, const SurfaceOptions& opt, Pr
   Surface s;
   Stopwatch clock(s.timings);
   stage(progress, "checking the mesh", 0.0, 0.15);
+  check_surface_memory(raw.num_triangles(), opt);
   SanitizedMesh clean = sanitize_mesh(raw);
   s.input_triangles = clean.mesh.num_triangles();
   check_kept_size(s.input_triangles, opt);
