@@ -586,13 +586,26 @@ def _refine(w, ds, options, a, result, elapsed):
         # crossing belt. An empty design only: a user's strips keep the mask they were drawn
         # under. design.json keeps the band, so the design re-derives the same.
         band = options.band * ds.surface.report()["bbox_diagonal"]
+        before = {k: ds.design.options.get(k) for k in ("compatibility_band", "compatibility_angle_deg")}
         ds.design.options["compatibility_band"] = band
         ds.native.compatibility_band = band
         if options.refine_angle_deg != ds.design.options.get("compatibility_angle_deg", 45):
             ds.design.options["compatibility_angle_deg"] = options.refine_angle_deg
             ds.native.compatibility_angle = float(options.refine_angle_deg)
         w.work += WORK_DERIVE
-        ds.update()
+        try:
+            ds.update()
+        except native.InputError as e:
+            # The wider angle can disable the direction of an earlier strip's anchor (0088:
+            # "strip 2: the direction of anchor 1 ... is disabled"): an internal refusal that
+            # must not reach the user (issue 18). Keep the design as it was, without refinement.
+            _say(options, f"  refinement skipped: its compatibility refuses the design ({e})")
+            ds.design.options.update(before)
+            ds.native.compatibility_band = before["compatibility_band"]
+            ds.native.compatibility_angle = float(before["compatibility_angle_deg"] or 45)
+            ds.update()
+            result.stopped = "refinement refused by the design"
+            return w.assess()
         a = w.assess()
     try:
         layout = w.layout()
