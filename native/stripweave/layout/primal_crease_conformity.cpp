@@ -5,8 +5,16 @@
 
 #include <algorithm>
 #include <queue>
+#include <unordered_map>
 
 namespace stripweave {
+
+double refined_crease_length(const LoopArrangement& A, const std::vector<std::uint8_t>& refined_crease) {
+  double total = 0;
+  for (Index e = 0; e < A.topology.num_edges(); ++e)
+    if (refined_crease[e]) total += (A.mesh.positions[A.topology.edges[e][0]] - A.mesh.positions[A.topology.edges[e][1]]).norm();
+  return total;
+}
 
 void measure_crease_conformity(const PrimalContext& ctx, QuadLayout& layout) {
   const MeshTopology& rt = ctx.arrangement.topology;
@@ -33,24 +41,25 @@ std::vector<Index> crease_path_in_region(const PrimalContext& ctx, Index r, Inde
   const LoopArrangement& A = ctx.arrangement;
   const MeshTopology& rt = A.topology;
   // Breadth-first over the region's crease edges (a tree when the region
-  // conforms, so the path is unique).
-  std::vector<Index> pred(A.mesh.num_vertices(), kInvalid);
+  // conforms, so the path is unique). The predecessors are kept per visited
+  // vertex only: this runs per crease exit in every layout, the weave's
+  // predicted ones included, and visits a crease path, not the mesh.
+  std::unordered_map<Index, Index> pred{{from, from}};
   std::queue<Index> queue;
-  pred[from] = from;
   queue.push(from);
-  while (!queue.empty() && pred[to] == kInvalid) {
+  while (!queue.empty() && !pred.count(to)) {
     const Index v = queue.front();
     queue.pop();
     if (v != from && ctx.vertex_on_loop[v]) continue;  // an exit: the region ends here
     for (const Index* n = rt.vertex_neighbours.begin(v); n != rt.vertex_neighbours.end(v); ++n) {
       const Index e = rt.find_edge(v, *n);
-      if (!ctx.edge_feature[e] || A.on_loop(e) || pred[*n] != kInvalid) continue;
+      if (!ctx.edge_feature[e] || A.on_loop(e) || pred.count(*n)) continue;
       if (ctx.regions.triangle_region[rt.edge_triangles[e][0]] != r) continue;
-      pred[*n] = v;
+      pred.emplace(*n, v);
       queue.push(*n);
     }
   }
-  if (pred[to] == kInvalid) return {};
+  if (!pred.count(to)) return {};
   std::vector<Index> path{to};
   while (path.back() != from) path.push_back(pred[path.back()]);
   std::reverse(path.begin(), path.end());

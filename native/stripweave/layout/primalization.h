@@ -77,6 +77,9 @@ void straighten_primal_edges(const PrimalContext& ctx, QuadLayout& layout);
 
 void cut_primal_patches(const PrimalContext& ctx, QuadLayout& layout);
 
+// The length of the refined edges marked in refined_crease (crease_structure.h).
+double refined_crease_length(const LoopArrangement& A, const std::vector<std::uint8_t>& refined_crease);
+
 // Fills QuadLayout::crease_conformity, crease_off_edges, crease_conforming
 // (primal_crease_conformity.cpp).
 void measure_crease_conformity(const PrimalContext& ctx, QuadLayout& layout);

@@ -133,9 +133,7 @@ QuadLayout build_quad_layout(const Surface& s, const LoopArrangement& A, const R
   layout.valid = G.valid;
   if (!G.valid) {
     // No primal edges: every crease lies off them.
-    for (Index e = 0; e < A.topology.num_edges(); ++e)
-      if (G.creases.refined_crease[e])
-        layout.crease_off_edges += (A.mesh.positions[A.topology.edges[e][0]] - A.mesh.positions[A.topology.edges[e][1]]).norm();
+    layout.crease_off_edges = refined_crease_length(A, G.creases.refined_crease);
     layout.crease_conformity = layout.crease_off_edges > 0 ? 0.0 : 1.0;
     layout.crease_conforming = false;
     layout.defects = find_layout_defects(s, A, layout);
