@@ -23,6 +23,7 @@ from stripweave.job import make_report
 from stripweave.layout import DEFECT_KEYS, compute_layout, format_defects, layout_json
 from stripweave.loops import LoopSession
 from stripweave.strips import DesignSession
+from stripweave.symmetry import mean_edge_length
 from test_layout import MERIDIAN, OUTER_EQUATOR, cube_layout  # noqa: F401  (a fixture)
 
 native = sw._native
@@ -183,6 +184,23 @@ def test_a_thin_patch_is_degenerate(sheet):
     assert L["patches"][thin]["defects"] == ["degenerate"] and L["patches"][1 - thin]["defects"] == []
     (x,) = locations(L, "degenerate")
     assert x["patch"] == thin and 0 <= x["position"][0] <= widths[thin] + 1e-9
+
+
+def test_a_thin_walls_patches_are_as_narrow_as_the_part_and_not_degenerate(tmp_path):
+    """A plate 0.5 thick: its side walls are under two solver edges wide, so every patch on
+    them has an inscribed radius under the degenerate bound. The part forces that width (the
+    patch spans its wall from crease to crease), so they are no defect: the plate weaves into
+    the clean six patches of a box. Without the rule they were flagged degenerate, and
+    refinement split the walls into ever shorter slivers (46 patches, 24 degenerate)."""
+    surface = sw.from_shape(Part.makeBox(10, 6, 0.5), target_triangles=8000)
+    h = mean_edge_length(surface)
+    report = sw.weave(surface, out=str(tmp_path))
+    L = json.load(open(tmp_path / "layout.json"))
+    narrow = [p for p in L["patches"] if p["inradius"] < 2 * h]
+    assert len(narrow) >= 2                  # the walls' patches, under the radius bound
+    assert all(p["inradius"] >= 0.2 for p in narrow)   # ... yet as wide as the wall (0.25)
+    assert report["defects"]["degenerate_patches"] == 0
+    assert report["clean"] and report["patches"] == 6
 
 
 def test_patches_over_a_crease_are_counted():

@@ -343,5 +343,5 @@ def test_no_clean_quad_to_fit_is_named():
         refit_design(Session(1))
     with pytest.raises(sw.InputError, match="none of the layout's 3 patches is a clean quad"):
         refit_design(Session(3))
-    with pytest.raises(sw.InputError, match="not valid"):
+    with pytest.raises(sw.InputError, match="has no patch"):
         refit_design(Session(0))

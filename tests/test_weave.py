@@ -5,6 +5,7 @@ one corner each), the torus as a valid layout; a user's partial design is kept f
 completed; the same input gives the same design; report.json agrees with layout.json.
 """
 import json
+import math
 import os
 import struct
 import subprocess
@@ -18,7 +19,7 @@ from models import box, filleted_box, key, torus
 from stripweave._native import native
 from stripweave.design import Design
 from stripweave.strips import DesignSession
-from stripweave.weave import WeaveOptions, _assessment_of, auto_weave, flaws, score
+from stripweave.weave import WeaveOptions, _assessment_of, _deviation, _oversized, auto_weave, flaws, score
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 CLI = os.path.join(os.environ.get("STRIPWEAVE_BUILD", os.path.join(REPO, "build")), "stripweave")
@@ -304,7 +305,16 @@ def test_cli_step_on_a_red_layout_keeps_the_outputs_and_says_why(tmp_path):
         assert (out / name).is_file()
     assert not (out / "patches.step").exists()
     report = json.loads((out / "report.json").read_text())
-    assert report["valid"] is False and "red regions" in report["fit"]["error"]
+    assert report["valid"] is False
+    # The message names the red region, where it is, why it is no disc, and what to try.
+    (red,) = report["red_regions"]
+    assert (red["genus"], red["boundaries"]) == (0, 2)            # the torus cut once: an annulus
+    x, y, z = red["position"]
+    assert abs(math.hypot(math.hypot(x, y) - 10, z) - 3) < 0.1   # on the torus
+    error = report["fit"]["error"]
+    assert "1 red region remains" in error and "genus 0, 2 boundary loops: not a disc" in error
+    assert "--budget" in error and "adding a strip through (" in error
+    assert "1 red region remains" in run.stderr
 
 
 def test_refinement_lays_no_patch_over_a_crease(tmp_path):
@@ -374,3 +384,36 @@ def test_cancel_event_stops_weaving_at_its_next_step(cube):
     with pytest.raises(native.Cancelled):
         auto_weave(ds, WeaveOptions(cancel=later))
     assert len(ds.design.strips) == 1
+
+
+def _quad(corners, angles, area=1.0, **flags):
+    return {"quad": True, "creased": False, "defects": [], "corners": corners, "corner_angles_deg": angles,
+            "area": area, **flags}
+
+
+def test_refinement_sees_a_corner_on_a_flagged_vertex_as_ninety_degrees_off():
+    """Two loops crossing twice bound a lens whose vertex has valence 2; the patches beside it
+    can show corners near 90 degrees there (a face scan stopped at 2 such patches, mean 9
+    degrees, below the 12 that ends refinement, and not clean). Refinement reads each corner
+    at a vertex the strict checks flag as 90 degrees off, per corner (a strip that splits the
+    patches lowers the share of such corners), and a patch with a defect of its own (here
+    degenerate) as four such corners."""
+    vertices = [{"defects": []}, {"defects": ["valence2"]}, {"defects": []}, {"defects": []}]
+    layout = {"valid": True, "vertices": vertices, "patches": [_quad([0, 1, 2, 3], [90, 88, 92, 90])]}
+    assert _deviation(layout) == pytest.approx((0 + 90 + 2 + 0) / 4)
+    vertices[1]["defects"] = []
+    assert _deviation(layout) == pytest.approx((0 + 2 + 2 + 0) / 4)
+    layout["patches"].append(_quad([0, 1, 2, 3], [90, 90, 90, 90], defects=["degenerate"]))
+    assert _deviation(layout) == pytest.approx((4 + 360) / 8)
+
+
+def test_patches_past_twenty_median_areas_are_split_first():
+    """Strips bunched in one place leave a few huge patches beside many small ones (an
+    impeller came out with one patch 252 times the area of another): patches larger than
+    max_area_ratio (20) median patches are refinement's first targets, largest first, even
+    where the corners are good; fewer than three patches say nothing about bunching."""
+    patches = [_quad([0, 1, 2, 3], [90] * 4, area=a) for a in (1, 1, 1, 25, 1, 50)]
+    layout = {"valid": True, "vertices": [{"defects": []}] * 4, "patches": patches}
+    assert _oversized(layout, 20.0) == [5, 3]
+    assert _oversized(layout, 0) == [] and _oversized(dict(layout, patches=patches[4:]), 20.0) == []
+    assert WeaveOptions().max_area_ratio == 20.0

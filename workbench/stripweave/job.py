@@ -18,7 +18,8 @@ quad layout, layout.compute_layout) -> files. With `out`, writes
     deviation.png with step=True: the patches coloured by their fit's deviation (preview.py)
 The returned dict is report.json's content plus "paths", "log" (one entry per added
 strip), "stopped" (why weaving ended), "work" (units spent, weave.py),
-"defect_locations" (layout.json's, for the CLI to say where) and
+"defect_locations" (layout.json's, for the CLI to say where), "why_red" (an invalid
+layout: which red regions remain, where, and what to try; else None) and
 "cancelled_queries" (loop queries cut by the timeout: the only machine-dependent step
 besides the wall-clock safety net).
 """
@@ -34,7 +35,7 @@ from .design import Design
 from .files import atomic_path, check_out_dir, out_lock, write_atomic
 from .layout import write_layout
 from .strips import DesignSession
-from .weave import WeaveOptions, auto_weave
+from .weave import WeaveOptions, auto_weave, red_regions, why_red
 
 REPORT_KEYS = ("valid", "strips", "patches", "regions", "irregular_vertices", "corner_deviation_deg",
                "bbox_diagonal", "timings_ms")
@@ -284,6 +285,13 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
     layout, details = _layout_of(ds)
     lap("layout")
     report = make_report(ds, layout, {})
+    red_text = None
+    if not report["valid"]:
+        # Where the layout stays invalid and what to try (issue 18): in report.json and every message.
+        report["red_regions"] = red_regions(ds)
+        red_text = why_red(report["red_regions"], report["regions"]["red"], stopped,
+                           WeaveOptions(max_strips=max_strips, **{k: v for k, v in weave_options.items()
+                                                                   if k == "budget"}))
     if symmetry is not None or design.symmetry is not None:   # asked for (even "none"): say what was used
         report["symmetry"] = symmetry_report(ds, layout, symmetries)
     paths = {}
@@ -308,7 +316,7 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
             paths["step"] = os.path.join(out, "patches.step")
             try:
                 if not layout["valid"]:
-                    raise native.InputError("cannot fit patches: the layout is not valid (red regions remain)")
+                    raise native.InputError(f"cannot fit patches: the layout is not valid: {red_text}")
                 tol = tolerance if tolerance is not None else 1e-3 * report["bbox_diagonal"]
                 report["fit"], uncovered = _export_step(ds, tol, paths["step"])
                 if preview:
@@ -338,5 +346,5 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
     say(f"{report['strips']} strips ({given} given), {report['patches']} patches, "
         f"{'valid' if report['valid'] else 'INVALID'}, {timings['total'] / 1000:.1f} s")
     return {**report, "paths": paths, "log": log, "stopped": stopped, "work": work, "cancelled_queries": cancelled,
-            "defect_locations": layout.get("defect_locations", []),
+            "defect_locations": layout.get("defect_locations", []), "why_red": red_text,
             "surface": surface, "design": ds.design}

@@ -60,7 +60,8 @@ def refit_design(design_session, tolerance=None, step_path=None, **options):
         if made:
             which = "the layout's only patch is not" if made == 1 else f"none of the layout's {made} patches is"
             raise native.InputError(f"{which} a clean quad (see the problems in layout.json): no patches to fit")
-        raise native.InputError("the design's layout is not valid (red regions): no patches to fit")
+        raise native.InputError("the design's layout has no patch (red regions remain, or no two strips cross): "
+                               "no patches to fit")
     result = native.refit(design_session.surface, network, tolerance=tolerance, step_path=step_path, **options)
     result["layout_patches"] = int(network.get("layout_patches", len(network["patches"])))
     result["left_out_patches"] = result["layout_patches"] - len(network["patches"])

@@ -107,6 +107,7 @@ class WeaveOptions:
     refine: bool = True             # then split the patches with the worst corners (needs the layout)
     region_penalty_deg: float = 5.0 # ... kept if the corners improve, each flaw of the assessment counted as this
     refine_deviation_deg: float = 12.0   # ... while the mean corner deviation is above this
+    max_area_ratio: float = 20.0    # ... or a patch is larger than this many median patches (0: no bound)
     refine_patches: int = 160       # ... and the layout has fewer patches than this (0: no limit)
     refine_query_polls: int = 100   # ... its loop queries stopped past this work (0: query_polls)
     refine_candidates: int = 2      # ... predicting this many candidate strips per added one, the best derived
@@ -270,6 +271,7 @@ class _Weaver:
         self.ds, self.options = ds, options
         self.session = ds.loop_session.native
         self.work = 0.0             # units spent (module doc)
+        self.spent = {}             # units by step (assess, predict, layout, derive, query): what dominates
         self.cancelled = 0          # loop queries cut by the timeout
         self.user_strips = len(ds.design.strips)
         self.groups = {}            # index of an added strip -> 1 + its symmetric images, added after it
@@ -282,6 +284,10 @@ class _Weaver:
         # A loop that is its own image must be so within the symmetry's tolerance (design.md's 1e-3
         # of the diagonal): the symmetric solver mesh (symmetry.symmetric_surface) makes it exact.
         self.symmetry_tolerance = options.symmetry_tolerance * ds.surface.bbox_diagonal
+
+    def spend(self, step, units):
+        self.work += units
+        self.spent[step] = self.spent.get(step, 0.0) + units
 
     def out_of_work(self, elapsed):
         """Whether the budget (deterministic) or the safety net (wall clock) is used up."""
@@ -302,7 +308,7 @@ class _Weaver:
 
     def assess(self, extra=(), seeds=True):
         self.check_cancel()
-        self.work += WORK_ASSESS
+        self.spend("assess", WORK_ASSESS)
         return native.weave_assessment(self.ds.native, list(extra), self.options.seeds_per_region if seeds else 0)
 
     def quality(self, a, layout, base_flaws=None):
@@ -310,29 +316,32 @@ class _Weaver:
         region_penalty_deg per flaw the assessment sees (flaws()); given the flaws before the
         addition (base_flaws), fewer flaws than those count as those (module doc: removing a
         flaw does not pay for worse corners)."""
+        # Each patch past the area bound (_oversized) counts as a flaw of the layout.
+        uneven = len(_oversized(layout, self.options.max_area_ratio))
         if base_flaws is not None:
-            return _deviation(layout) + self.options.region_penalty_deg * (max(0, flaws(a) - base_flaws) + base_flaws)
-        return _deviation(layout) + self.options.region_penalty_deg * flaws(a)
+            return _deviation(layout) + self.options.region_penalty_deg * \
+                (max(0, flaws(a) - base_flaws) + base_flaws + uneven)
+        return _deviation(layout) + self.options.region_penalty_deg * (flaws(a) + uneven)
 
     def predict(self, loop):
         """The layout and assessment the design would have with the loop added, under the
         design's current singularities (no field or parameterization solve): one arrangement,
         whose regions give the assessment (_assessment_of)."""
         self.check_cancel()
-        self.work += WORK_PREDICT
+        self.spend("predict", WORK_PREDICT)
         layout = self.ds.native.layout_with([loop])
         return layout, _assessment_of(layout)
 
     def layout(self):
         self.check_cancel()
-        self.work += WORK_LAYOUT
+        self.spend("layout", WORK_LAYOUT)
         return _layout(self.ds)
 
     def remove(self, index):
         """Remove the strip just added (the last one, with its symmetric images): DesignState
         restores its kept state."""
         count = self.groups.pop(index, 1)
-        self.work += WORK_RESTORE if index + count == len(self.ds.design.strips) and count == 1 else WORK_DERIVE
+        self.spend("derive", WORK_RESTORE if index + count == len(self.ds.design.strips) and count == 1 else WORK_DERIVE)
         if count == 1:
             self.ds.remove_strip(index)
         else:
@@ -358,7 +367,7 @@ class _Weaver:
             return False
         if not images:
             return True
-        self.work += WORK_DERIVE
+        self.spend("derive", WORK_DERIVE)
         try:
             self.ds.add_strips([[a] for a, _ in images], [{"image_of": index} for _ in images])
         except native.InputError as e:
@@ -413,7 +422,7 @@ class _Weaver:
                 self.cancelled += 1
             return []
         finally:
-            self.work += WORK_QUERY + WORK_PER_POLL * self.session.last_query_polls
+            self.spend("query", WORK_QUERY + WORK_PER_POLL * self.session.last_query_polls)
             watchdog.cancel()
             self.session.clear_disabled()
 
@@ -443,7 +452,7 @@ class _Weaver:
             d = self.ds.design.copy()
             d.add_strip([anchor])
             d.save(_DEBUG_DESIGN)
-        self.work += WORK_DERIVE
+        self.spend("derive", WORK_DERIVE)
         try:
             index = self.ds.add_strip([anchor])
         except native.InputError as e:
@@ -484,22 +493,51 @@ def _layout(ds):
 
 def _deviation(layout):
     """The mean corner deviation from 90 degrees that refinement lowers: report.json's mean,
-    with every patch whose boundary does not read as four sides counted as four corners
-    90 degrees off (report.json leaves them out, and a strip that breaks patches must not
-    look like an improvement)."""
+    with every patch that cannot be a clean quad counted as four corners 90 degrees off
+    (_corner_deviations: report.json leaves them out, and a strip that breaks patches must
+    not look like an improvement)."""
     if not layout["valid"] or not layout["patches"]:
         return 180.0
-    return sum(sum(_corner_deviations(p)) for p in layout["patches"]) / (4 * len(layout["patches"]))
+    flawed = _defect_vertices(layout)
+    return sum(sum(_corner_deviations(p, flawed)) for p in layout["patches"]) / (4 * len(layout["patches"]))
 
 
-def _corner_deviations(p):
-    """A patch's four corner deviations from 90 degrees; 90 each where it is no quad."""
+def _defect_vertices(layout):
+    """The layout's vertices the strict checks flag (valence 2, valence 7 and more): a corner
+    there is no quad corner, whatever angle the patch shows at it."""
+    return {i for i, v in enumerate(layout.get("vertices", ())) if v.get("defects")}
+
+
+def _corner_deviations(p, flawed=frozenset()):
+    """A patch's four corner deviations from 90 degrees; 90 each where it cannot be a clean
+    quad (no quad, laid over a crease, flagged by the strict checks: degenerate, overlapping),
+    and 90 at each corner on a flagged vertex (`flawed`, _defect_vertices)."""
     # A patch laid over a crease counts as 90 degrees off too: no smooth patch fits it, and a
     # coarse layout of such patches has good corners (the crease runs through them) that would
     # otherwise stop refinement (fandisk: 6 patches at 4.3 degrees, 4 of them over creases).
-    if not p.get("quad", True) or p.get("creased", False):
+    if not p.get("quad", True) or p.get("creased", False) or p.get("defects"):
         return [90.0] * 4
-    return [abs(x - 90.0) for x in p["corner_angles_deg"]]
+    # A valence-2 vertex (two loops crossing twice bound a lens) can show corners near 90
+    # degrees in the patches beside it while the layout is not clean; per corner, not per
+    # patch, so that a strip splitting those patches lowers the figure step by step, as it
+    # lowers the share of corners at the flagged vertex.
+    return [90.0 if c in flawed else abs(x - 90.0) for c, x in zip(p.get("corners", ()), p["corner_angles_deg"])] \
+        if len(p.get("corners", ())) == len(p["corner_angles_deg"]) else [abs(x - 90.0) for x in p["corner_angles_deg"]]
+
+
+def _oversized(layout, ratio):
+    """The patches whose area exceeds `ratio` times the median patch area, largest first: a
+    layout whose strips bunched in one place (a bore, an ear) has a few huge patches beside
+    many small ones, which no NURBS patch of the refit fits evenly (issue 18: at most 20
+    times the median). None when ratio is 0 or there are fewer than 3 patches (a median of
+    one or two patches says nothing about bunching)."""
+    patches = layout.get("patches", ())
+    if not ratio or len(patches) < 3:
+        return []
+    areas = sorted(p["area"] for p in patches)
+    median = areas[len(areas) // 2] if len(areas) % 2 else 0.5 * (areas[len(areas) // 2 - 1] + areas[len(areas) // 2])
+    big = [i for i, p in enumerate(patches) if p["area"] > ratio * median]
+    return sorted(big, key=lambda i: (-patches[i]["area"], i))
 
 
 def _creased(layout):
@@ -526,14 +564,14 @@ def _at_length(points, t):
     return list(points[-1])
 
 
-def _split_need(p):
+def _split_need(p, flawed=frozenset()):
     """How much splitting the patch may gain: its area times its mean corner deviation (a
     patch that is not a quad: 90 degrees). Not the worst corner alone: refinement then
     worked where the corners were worst (often a narrow place, the rocker-arm's ring) and
     bunched loops there, leaving the large patches elsewhere as they were; area times
     deviation spreads the loops over the surface (measured on the rocker-arm, otherwise the
     same refinement: 18.5 against 25.4 degrees mean)."""
-    return p["area"] * (sum(_corner_deviations(p)) / 4)
+    return p["area"] * (sum(_corner_deviations(p, flawed)) / 4)
 
 
 def _splits(layout, patch):
@@ -592,7 +630,7 @@ def _refine(w, ds, options, a, result, elapsed):
         if options.refine_angle_deg != ds.design.options.get("compatibility_angle_deg", 45):
             ds.design.options["compatibility_angle_deg"] = options.refine_angle_deg
             ds.native.compatibility_angle = float(options.refine_angle_deg)
-        w.work += WORK_DERIVE
+        w.spend("derive", WORK_DERIVE)
         try:
             ds.update()
         except native.InputError as e:
@@ -618,7 +656,8 @@ def _refine(w, ds, options, a, result, elapsed):
     while len(ds.design.strips) < options.max_strips and not w.out_of_work(elapsed):
         deviation = _deviation(layout)
         patches = len(layout["patches"])
-        if deviation <= options.refine_deviation_deg:
+        oversized = _oversized(layout, options.max_area_ratio)
+        if deviation <= options.refine_deviation_deg and not oversized:
             result.stopped = "done"
             break
         limit = options.patches or options.refine_patches
@@ -630,7 +669,11 @@ def _refine(w, ds, options, a, result, elapsed):
         creased = _creased(layout)
         # Patches by how much splitting them may gain (_split_need), and per patch the
         # anchors of the loops that would shorten its long sides (_splits).
-        order = sorted(range(patches), key=lambda i: (-_split_need(layout["patches"][i]), i))
+        # With the corners good enough, only the patches past the area bound are split.
+        flawed = _defect_vertices(layout)
+        order = oversized if deviation <= options.refine_deviation_deg else \
+            oversized + sorted((i for i in range(patches) if i not in oversized),
+                               key=lambda i: (-_split_need(layout["patches"][i], flawed), i))
         seeds = []
         for i in order:
             if len(seeds) >= options.refine_candidates:
@@ -675,7 +718,7 @@ def _refine(w, ds, options, a, result, elapsed):
         tried.add(_key(seed[:3]))
         _say(options, f"strip {len(ds.design.strips) + 1}: refine patch {worst} (corner deviation "
                       f"{deviation:.1f} deg, {patches} patches, predicted quality {current:.2f} -> {q:.2f}, "
-                      f"{elapsed():.1f} s)")
+                      f"work {w.work:.0f}, {elapsed():.1f} s)")
         index = w.add(loop, seed)
         if index is None:
             continue
@@ -744,6 +787,35 @@ def _coverage_pair(w, ds, options, a, candidate, elapsed):
             w.remove(second)
     w.remove(first)
     return None
+
+
+def red_regions(ds, limit=5):
+    """The red regions of the design, largest first (at most `limit`): where each is (its
+    centre, model units: where a strip by hand would start), its area, genus and boundary
+    loops (a disc has genus 0 and one boundary loop), for report.json's "red_regions"."""
+    a = native.weave_assessment(ds.native, [], 1)
+    red = sorted((r for r in a["regions"] if r["colour"] == "red"), key=lambda r: -r["area"])
+    return [{"position": [float(x) for x in r["seeds"][0]] if r["seeds"] else None, "area": float(r["area"]),
+             "genus": int(r["genus"]), "boundaries": int(2 - 2 * r["genus"] - r["euler_characteristic"])}
+            for r in red[:limit]]
+
+
+def why_red(red, total, stopped, options):
+    """One line for people: which red regions remain, where, why each is no disc, why weaving
+    stopped, and what to try."""
+    def where(r):
+        at = "" if r["position"] is None else " at (" + ", ".join(f"{x:.4g}" for x in r["position"]) + ")"
+        loops = f"{r['boundaries']} boundary loop{'' if r['boundaries'] == 1 else 's'}"
+        return f"a region{at} (genus {r['genus']}, {loops}: not a disc)"
+    shown = "; ".join(where(r) for r in red[:3]) + ("; ..." if total > 3 else "")
+    tries = [f"--budget {2 * options.budget:g}"]
+    if stopped == "max strips":
+        tries.insert(0, f"--max-strips {options.max_strips + 20}")
+    first = next((r["position"] for r in red if r["position"] is not None), None)
+    by_hand = "adding a strip through " + ("(" + ", ".join(f"{x:.4g}" for x in first) + ")" if first else
+                                         "the red region") + " by hand (a loop that cuts it)"
+    return (f"{total} red region{'' if total == 1 else 's'} remain{'s' if total == 1 else ''}: {shown}; "
+            f"weaving stopped: {stopped}; try {', '.join(tries)}, or {by_hand}")
 
 
 def auto_weave(ds, options=None):
@@ -816,7 +888,7 @@ def _weave(w, ds, options):
         reason, region, colour, points = seeds[0]
         _say(options, f"strip {len(ds.design.strips) + 1}: {reason} {region} "
                       f"(red {a['colours']['red']}, crease {a['colours']['crease']}, orange {a['colours']['orange']}, "
-                      f"yellow {a['colours']['yellow']}, {elapsed():.1f} s)")
+                      f"yellow {a['colours']['yellow']}, work {w.work:.0f}, {elapsed():.1f} s)")
         added = None
         tried_real = False
         splitting = []        # uncovered area: proposals that would leave a red region
@@ -885,6 +957,8 @@ def _weave(w, ds, options):
     _say(options, f"{result.stopped}: {len(ds.design.strips)} strips ({user_strips} given, "
                   f"{len(result.log)} added), red {a['colours']['red']}, crease {a['colours']['crease']}, "
                   f"orange {a['colours']['orange']}, "
-                  f"yellow {a['colours']['yellow']}, work {w.work:g}, {elapsed():.1f} s"
+                  f"yellow {a['colours']['yellow']}, work {w.work:g} ("
+                  + ", ".join(f"{k} {v:.0f}" for k, v in sorted(w.spent.items(), key=lambda kv: -kv[1]))
+                  + f"), {elapsed():.1f} s"
                   + (f", {w.cancelled} loop queries cut by the timeout" if w.cancelled else ""))
     return result

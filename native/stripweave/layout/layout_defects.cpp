@@ -1,6 +1,8 @@
 // The strict checks of a quad layout (see layout_defects.h).
 #include "stripweave/layout/layout_defects.h"
 
+#include "stripweave/layout/crease_structure.h"
+
 #include "stripweave/layout/quad_layout.h"
 #include "stripweave/surface/corner_strength.h"
 #include "stripweave/surface/creases.h"
@@ -187,22 +189,13 @@ struct Checker {
     }
   }
 
-  // Per patch, the largest distance of its vertices from its boundary.
-  void patch_inradii() {
+  // Per refined vertex, the distance (along refined edges that are not in
+  // `cut`) to the nearest endpoint of a `cut` edge: multi-source Dijkstra,
+  // the sources at distance 0.
+  std::vector<double> distance_from(const std::vector<std::uint8_t>& cut) const {
     const MeshTopology& rt = A.topology;
     const Index nv = A.mesh.num_vertices(), ne = rt.num_edges();
-    std::vector<std::uint8_t> cut(ne, 0);
-    for (Index e = 0; e < ne; ++e) {
-      const auto& et = rt.edge_triangles[e];
-      cut[e] = et[1] == kInvalid || L.triangle_patch[et[0]] != L.triangle_patch[et[1]];
-    }
-    for (const PrimalEdge& pe : L.edges)
-      for (size_t i = 0; i + 1 < pe.path.size(); ++i) {
-        const Index e = rt.find_edge(pe.path[i], pe.path[i + 1]);
-        if (e != kInvalid) cut[e] = 1;
-      }
-    const double inf = std::numeric_limits<double>::infinity();
-    std::vector<double> dist(nv, inf);
+    std::vector<double> dist(nv, std::numeric_limits<double>::infinity());
     using Item = std::pair<double, Index>;
     std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
     for (Index e = 0; e < ne; ++e)
@@ -218,33 +211,76 @@ struct Checker {
     std::vector<Index> fill(offsets.begin(), offsets.end() - 1);
     for (Index e = 0; e < ne; ++e)
       if (!cut[e]) next[fill[rt.edges[e][0]]++] = rt.edges[e][1], next[fill[rt.edges[e][1]]++] = rt.edges[e][0];
+    const auto& P = L.positions;  // after straightening, as the patches are measured
     while (!heap.empty()) {
       const auto [d, v] = heap.top();
       heap.pop();
       if (d > dist[v]) continue;
       for (Index k = offsets[v]; k < offsets[v + 1]; ++k) {
         const Index w = next[k];
-        const double nd = d + (L.positions[v] - L.positions[w]).norm();
+        const double nd = d + (P[v] - P[w]).norm();
         if (nd < dist[w]) dist[w] = nd, heap.push({nd, w});
       }
     }
-    out.patch_inradius.assign(L.patches.size(), 0.0);
+    return dist;
+  }
+
+  // Per patch, the largest of `dist` over its triangles' vertices.
+  std::vector<double> patch_maximum(const std::vector<double>& dist) const {
+    std::vector<double> out_max(L.patches.size(), 0.0);
     for (size_t p = 0; p < L.patches.size(); ++p)
       for (Index t : L.patches[p].triangles)
-        for (Index v : A.mesh.triangles[t]) out.patch_inradius[p] = std::max(out.patch_inradius[p], dist[v]);
+        for (Index v : A.mesh.triangles[t]) out_max[p] = std::max(out_max[p], dist[v]);
+    return out_max;
+  }
+
+  // Per patch, the largest distance of its vertices from its boundary.
+  void patch_inradii() {
+    const MeshTopology& rt = A.topology;
+    const Index ne = rt.num_edges();
+    std::vector<std::uint8_t> cut(ne, 0);
+    for (Index e = 0; e < ne; ++e) {
+      const auto& et = rt.edge_triangles[e];
+      cut[e] = et[1] == kInvalid || L.triangle_patch[et[0]] != L.triangle_patch[et[1]];
+    }
+    for (const PrimalEdge& pe : L.edges)
+      for (size_t i = 0; i + 1 < pe.path.size(); ++i) {
+        const Index e = rt.find_edge(pe.path[i], pe.path[i + 1]);
+        if (e != kInvalid) cut[e] = 1;
+      }
+    out.patch_inradius = patch_maximum(distance_from(cut));
+  }
+
+  // Per patch, the largest distance of its vertices from a crease or the
+  // open boundary: the width the part itself leaves a patch there. A patch
+  // between two creases closer than kDegenerateRadius solver edges (the
+  // side wall of a thin plate, a narrow chamfer) is as narrow as the part's
+  // face, and no layout can make it wider.
+  std::vector<double> crease_widths() const {
+    std::vector<std::uint8_t> sharp = refined_crease_edges(s, A);
+    const MeshTopology& rt = A.topology;
+    for (Index e = 0; e < rt.num_edges(); ++e)
+      if (rt.edge_triangles[e][1] == kInvalid) sharp[e] = 1;
+    return patch_maximum(distance_from(sharp));
   }
 
   void check_degenerate(double h) {
     patch_inradii();
+    const std::vector<double> width = crease_widths();
     double area = 0;
     for (Index t = 0; t < s.mesh.num_triangles(); ++t) {
       const Tri& f = s.mesh.triangles[t];
       const auto& P = s.mesh.positions;
       area += 0.5 * (P[f[1]] - P[f[0]]).cross(P[f[2]] - P[f[0]]).norm();
     }
-    for (size_t p = 0; p < L.patches.size(); ++p)
-      if (L.patches[p].area < kDegenerateArea * area || out.patch_inradius[p] < kDegenerateRadius * h)
+    for (size_t p = 0; p < L.patches.size(); ++p) {
+      const double r = out.patch_inradius[p];
+      // Narrow by the part (its inradius is nearly all the width its creases
+      // leave it: kForcedWidth), not by the layout: not degenerate for that.
+      const bool forced = r >= kForcedWidth * width[p];
+      if (L.patches[p].area < kDegenerateArea * area || (r < kDegenerateRadius * h && !forced))
         patch_kind(static_cast<Index>(p), DefectKind::Degenerate, out.degenerate_patches);
+    }
   }
 
   void check_coverage() {

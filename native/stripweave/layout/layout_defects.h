@@ -44,6 +44,11 @@
 //                   boundary, and where it borders no patch or another one),
 //                   by multi-source Dijkstra over the refined mesh's edges
 //                   within the patch (an upper bound of the geodesic one).
+//                   A patch narrower than that radius only because the part
+//                   is (its inradius at least kForcedWidth of its crease
+//                   width: the largest distance of its vertices from a
+//                   crease or the open boundary, e.g. the side wall of a
+//                   thin plate) is not degenerate by the radius.
 //     uncovered     a triangle of the SURFACE (solver mesh; each refined
 //                   triangle lies in one) some part of which lies in no
 //                   patch or in two (a refined triangle listed by no patch's
@@ -73,6 +78,12 @@ struct QuadLayout;
 
 constexpr double kDegenerateArea = 1e-4;   // of the surface's area
 constexpr double kDegenerateRadius = 2.0;  // mean solver edge lengths
+// A narrow patch is forced by the part when its inradius is at least this
+// share of its crease width (the largest distance of its vertices from a
+// crease or the open boundary): both are graph distances on the same refined
+// mesh, equal where the patch spans its face from crease to crease, and the
+// share allows for the refined mesh's detours near the patch's corners.
+constexpr double kForcedWidth = 0.9;
 constexpr int kMaxFreeValence = 6;
 
 enum class DefectKind : std::uint8_t {
