@@ -14,6 +14,9 @@ import zlib
 import numpy as np
 import pytest
 
+import FreeCAD  # noqa: F401  (before Part)
+import Part
+
 import stripweave as sw
 from models import box, filleted_box, key, torus
 from stripweave._native import native
@@ -417,3 +420,18 @@ def test_patches_past_twenty_median_areas_are_split_first():
     assert _oversized(layout, 20.0) == [5, 3]
     assert _oversized(layout, 0) == [] and _oversized(dict(layout, patches=patches[4:]), 20.0) == []
     assert WeaveOptions().max_area_ratio == 20.0
+
+
+def test_refinement_refused_by_the_band_refines_under_the_papers_mask():
+    """A plate with three through holes: refinement's wider compatibility (band and 60
+    degrees) refuses a strip the colour phase added (no compatible loop joins its anchors).
+    That refusal is internal: weaving goes on without an error, under the design's own mask
+    (the paper's), and still refines (it used to stop there, no strip added)."""
+    plate = Part.makeBox(100, 60, 5)
+    for k in range(3):
+        plate = plate.cut(Part.makeCylinder(4, 5, FreeCAD.Vector(25 + 25 * k, 30, 0)))
+    report = sw.weave(sw.from_shape(plate, target_triangles=12000))
+    assert report["valid"]
+    assert report["design"].options.get("compatibility_band") is None     # the paper's mask kept
+    refined = [e for e in report["log"] if e["reason"] == "corner deviation"]
+    assert refined and report["stopped"] in ("work budget", "done", "no seed helps", "patch target")

@@ -636,14 +636,14 @@ def _refine(w, ds, options, a, result, elapsed):
         except native.InputError as e:
             # The wider angle can disable the direction of an earlier strip's anchor (0088:
             # "strip 2: the direction of anchor 1 ... is disabled"): an internal refusal that
-            # must not reach the user (issue 18). Keep the design as it was, without refinement.
-            _say(options, f"  refinement skipped: its compatibility refuses the design ({e})")
+            # must not reach the user (issue 18). Keep the design's own compatibility (the
+            # paper's mask) and refine under it: its loops can still split the patches, only
+            # not as close beside the strips there.
+            _say(options, f"  refinement keeps the paper's compatibility: the band refuses the design ({e})")
             ds.design.options.update(before)
             ds.native.compatibility_band = before["compatibility_band"]
             ds.native.compatibility_angle = float(before["compatibility_angle_deg"] or 45)
             ds.update()
-            result.stopped = "refinement refused by the design"
-            return w.assess()
         a = w.assess()
     try:
         layout = w.layout()
