@@ -219,3 +219,34 @@ def test_brep_evaluation_same_on_one_and_two_cores():
         two = sw.from_shape(shape, target_triangles=6000)
         for key in ("vertices", "normals", "triangles", "k_min", "k_max", "d_min", "d_max"):
             assert np.array_equal(np.asarray(getattr(one, key)), np.asarray(getattr(two, key))), key
+
+
+def test_faces_touching_without_a_shared_edge_come_apart():
+    """Two B-rep faces that touch along a line no B-rep edge follows (the joystick assembly's
+    tangent cylinders: BRepMesh joined the two shared vertices by one interior edge in each
+    face) welded into a fin of four triangles, refused as non-manifold. Here two closed
+    tetrahedra, one B-rep face each, share the edge AB inside both: the second face's two
+    triangles at AB are split at its midpoint, and A and B, now pinched, get a copy per fan.
+    The result is two closed manifold sheets: every edge has two triangles, V - E + F = 2
+    per sheet, and nothing moved (the new midpoint lies on AB)."""
+    from stripweave._native import native
+    A, B, C, D, E, F = (0, 0, 0), (1, 0, 0), (0.5, 1, 0.3), (0.5, -1, 0.3), (0.5, 1, -0.3), (0.5, -1, -0.3)
+    vertices = np.array([A, B, C, D, E, F], float)
+    first = [(0, 1, 2), (1, 0, 3), (0, 2, 3), (1, 3, 2)]          # A B C D: AB inside face 0
+    second = [(1, 0, 4), (0, 1, 5), (0, 5, 4), (1, 4, 5)]         # A B E F: AB inside face 1
+    triangles = np.array(first + second, np.int32)
+    v, t, faces, split = native.part_touching_faces(vertices, triangles, [0] * 4 + [1] * 4)
+    assert split == 1
+    assert len(t) == 10 and len(faces) == 10 and len(v) == 6 + 1 + 2   # a midpoint, copies of A and B
+    uses = {}
+    for tri in t:
+        for i in range(3):
+            e = tuple(sorted((int(tri[i]), int(tri[(i + 1) % 3]))))
+            uses[e] = uses.get(e, 0) + 1
+    assert set(uses.values()) == {2}
+    assert len(v) - len(uses) + len(t) == 4                        # two spheres
+    assert np.allclose(v[6], (0.5, 0, 0))                              # the midpoint, on AB
+    assert sorted(map(tuple, v[7:].tolist())) == sorted([A, B])      # the copies, where A and B are
+    # A first face with the edge on its border keeps it; a single interior use is no fin.
+    _, _, _, none = native.part_touching_faces(vertices, np.array(first, np.int32), [0] * 4)
+    assert none == 0

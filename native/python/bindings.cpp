@@ -14,6 +14,7 @@
 #include "stripweave/occt/brep_source.h"
 #include "stripweave/surface/build_surface.h"
 #include "stripweave/surface/creases.h"
+#include "stripweave/surface/split_touching_edges.h"
 #include "stripweave/surface/surface_report.h"
 
 #include <pybind11/numpy.h>
@@ -252,6 +253,19 @@ PYBIND11_MODULE(_stripweave, m) {
         stripweave_python::NativeCall release;
         write_mesh_file(path, mesh);
       }, py::arg("path"), py::arg("vertices"), py::arg("triangles"));
+
+  m.def("part_touching_faces", [](const Array3d& vertices, const Array3i& triangles, std::vector<Index> faces) {
+        TriangleMesh mesh = mesh_from_arrays(vertices, triangles);
+        if (faces.size() != mesh.triangles.size()) throw InputError("part_touching_faces: one face id per triangle");
+        std::vector<EdgeKey> segments;
+        std::vector<Index> corners;
+        const Index split = part_touching_faces(mesh, faces, segments, corners);
+        return py::make_tuple(rows<double, 3>(mesh.num_vertices(), [&](Index v) { return mesh.positions[v]; }),
+                              rows<std::int32_t, 3>(mesh.num_triangles(), [&](Index t) { return mesh.triangles[t]; }),
+                              faces, split);
+      }, py::arg("vertices"), py::arg("triangles"), py::arg("faces"),
+      "split_touching_edges.h on a welded tessellation with a B-rep face id per triangle: "
+      "(vertices, triangles, faces, edges split)");
 
   m.def("_fp_trap_test", [](const std::string& kind) {
         stripweave_python::NativeCall release;

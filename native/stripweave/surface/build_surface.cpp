@@ -12,6 +12,7 @@
 #include "stripweave/surface/creases.h"
 #include "stripweave/surface/feature_curves.h"
 #include "stripweave/surface/sanitize_mesh.h"
+#include "stripweave/surface/split_touching_edges.h"
 #include "stripweave/surface/surface_report.h"
 
 #include <algorithm>
@@ -234,6 +235,9 @@ Surface surface_from_brep(std::shared_ptr<const BrepSource> brep, const SurfaceO
   s.warnings = brep->warnings();  // the sewing of loose faces
   BrepTessellation tess = brep->tessellate(deflection, opt.angular_deflection_deg * M_PI / 180.0);
   if (tess.mesh.triangles.empty()) throw InputError("OpenCASCADE produced no triangles for the shape");
+  if (Index fins = part_touching_faces(tess.mesh, tess.face_of_triangle, tess.edge_segments, tess.corner_vertices))
+    s.warnings.push_back("split " + std::to_string(fins) +
+                         " mesh edge(s) where B-rep faces touch without a shared edge (split_touching_edges.h)");
   if (Index gaps = fill_tessellation_gaps(tess, *brep))
     s.warnings.push_back("closed " + std::to_string(gaps) + " tiny gap(s) in OpenCASCADE's tessellation");
   clock.lap("tessellate");

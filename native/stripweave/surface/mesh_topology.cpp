@@ -184,4 +184,25 @@ std::vector<std::pair<Index, Index>> non_manifold_vertices(const TriangleMesh& m
   return result;
 }
 
+std::vector<std::vector<Index>> split_pinched_vertices(TriangleMesh& m, const MeshTopology& topo) {
+  const auto pinched = non_manifold_vertices(m, topo);
+  std::vector<std::vector<Index>> out;
+  for (const auto& pinch : pinched) {
+    const Index v = pinch.first;
+    const std::vector<Index> tris(topo.vertex_triangles.begin(v), topo.vertex_triangles.end(v));
+    Index count = 0;
+    const std::vector<Index> fan = vertex_fans(topo, v, count);
+    std::vector<Index> copy(count, v);
+    for (Index c = 1; c < count; ++c) {
+      copy[c] = m.num_vertices();
+      m.positions.push_back(m.positions[v]);
+    }
+    for (size_t i = 0; i < tris.size(); ++i)
+      for (Index& w : m.triangles[tris[i]])
+        if (w == v) w = copy[fan[i]];
+    out.push_back(std::move(copy));
+  }
+  return out;
+}
+
 }  // namespace stripweave

@@ -74,4 +74,9 @@ std::vector<Index> vertex_fans(const MeshTopology& topo, Index v, Index& fans);
 // vertices), each as the number of separate fans around it.
 std::vector<std::pair<Index, Index>> non_manifold_vertices(const TriangleMesh& mesh, const MeshTopology& topo);
 
+// Give every extra fan of a pinched vertex its own copy of the vertex (new
+// vertices appended; `topo` is the mesh's before the split). Returns, per
+// pinched vertex, its copies with the vertex itself first, fan 0 keeping it.
+std::vector<std::vector<Index>> split_pinched_vertices(TriangleMesh& mesh, const MeshTopology& topo);
+
 }  // namespace stripweave

@@ -211,26 +211,6 @@ Index orient_consistently(TriangleMesh& m, const MeshTopology& topo) {
   return flipped;
 }
 
-// Give every extra fan of a pinched vertex its own copy of the vertex.
-Index split_pinched_vertices(TriangleMesh& m, const MeshTopology& topo) {
-  const auto pinched = non_manifold_vertices(m, topo);
-  for (const auto& pinch : pinched) {
-    const Index v = pinch.first;
-    const std::vector<Index> tris(topo.vertex_triangles.begin(v), topo.vertex_triangles.end(v));
-    Index count = 0;
-    const std::vector<Index> fan = vertex_fans(topo, v, count);
-    std::vector<Index> copy(count, v);
-    for (Index c = 1; c < count; ++c) {
-      copy[c] = m.num_vertices();
-      m.positions.push_back(m.positions[v]);
-    }
-    for (size_t i = 0; i < tris.size(); ++i)
-      for (Index& w : m.triangles[tris[i]])
-        if (w == v) w = copy[fan[i]];
-  }
-  return static_cast<Index>(pinched.size());
-}
-
 Index drop_unreferenced(TriangleMesh& m) {
   std::vector<Index> remap(m.positions.size(), kInvalid);
   std::vector<Vec3> kept;
@@ -275,7 +255,7 @@ SanitizedMesh sanitize_mesh(const TriangleMesh& raw, double debris_fraction) {
   if (m.triangles.empty()) throw InputError("the mesh holds no triangles with area");
 
   MeshTopology topo = MeshTopology::build(m);  // throws on non-manifold edges
-  if (Index n = split_pinched_vertices(m, topo)) {
+  if (Index n = static_cast<Index>(split_pinched_vertices(m, topo).size())) {
     warn.push_back("split " + plural(n, "non-manifold (pinched) vertex", "non-manifold (pinched) vertices"));
     topo = MeshTopology::build(m);
   }
