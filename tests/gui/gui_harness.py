@@ -201,6 +201,22 @@ def key(name):
     xdotool("key", name)
 
 
+def click_widget(widget, point=None):
+    """A real click in the middle of ``widget`` (or at its local QPoint
+    ``point``); a widget in a scroll area (the task view) is scrolled into
+    sight first, as a user would."""
+    parent = widget.parentWidget()
+    while parent is not None and not isinstance(parent, QtGui.QScrollArea):
+        parent = parent.parentWidget()
+    if parent is not None:
+        parent.ensureWidgetVisible(widget)
+        pump(0.1)
+    dpr = widget.devicePixelRatioF() if hasattr(widget, "devicePixelRatioF") else 1.0
+    centre = widget.mapToGlobal(point if point is not None else widget.rect().center())
+    xdotool("mousemove", int(centre.x() * dpr), int(centre.y() * dpr), settle=0.05)
+    xdotool("click", 1, settle=0.0)
+
+
 def save_screenshot(view, path):
     """The 3D view rendered to ``path`` at its current camera and size, so
     pixel (x, height - 1 - y) of the image is Coin position (x, y)."""
