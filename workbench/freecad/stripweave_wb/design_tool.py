@@ -53,6 +53,7 @@ Scriptable (tests, macros)::
     tool.drag_to(point, direction); tool.add_dragged()    # what a drag does
 """
 
+import collections
 import time
 
 import numpy as np
@@ -178,6 +179,10 @@ class DesignTool:
         self.add_base = None          # DesignJson the edit is based on
         self.edit_name = None         # the transaction name of a strip edit in flight
         self._grab = None             # (strip index, its loop's points) while a loop is grabbed
+        self._asked = (None, 0.0)     # (serial, time) of the newest proposal query
+        # Milliseconds from a query (a hover, a drag step, a browse) to its preview on
+        # screen, the newest last (a figure for bench notes and tests).
+        self.latencies_ms = collections.deque(maxlen=1000)
         self.last_error = None
         self._seen_json = obj.DesignJson
         self._press = None
@@ -311,7 +316,7 @@ class DesignTool:
         self.alternatives_requested = False
         self.proposals = []
         if self.worker is not None and not self.closed:
-            self.proposal_serial = self.worker.propose("best", self.drag_anchor)
+            self._ask("best", self.drag_anchor)
         return self.drag_anchor
 
     def _on_button(self, event_cb):
@@ -408,7 +413,7 @@ class DesignTool:
         self.alternatives_requested = False
         self.proposals = []
         if self.worker is not None and not self.closed:
-            self.proposal_serial = self.worker.propose("best", self.drag_anchor, masked=False)
+            self._ask("best", self.drag_anchor, masked=False)
         return self.drag_anchor
 
     def reroute_screen(self, grab, x, y):
@@ -543,7 +548,7 @@ class DesignTool:
         self.want_index = max(0, min(ALTERNATIVES - 1, self.want_index + int(step)))
         if not self.alternatives_requested:
             self.alternatives_requested = True
-            self.proposal_serial = self.worker.propose("alternatives", self.point, ALTERNATIVES)
+            self._ask("alternatives", self.point, ALTERNATIVES)
             self.panel.set_proposal("searching alternatives ...")
         else:
             self._show()
@@ -739,13 +744,22 @@ class DesignTool:
             extra = [] if tuple(self.pending[-1][:3]) == tuple(where[:3]) else [list(where)]
             where = tuple(tuple(a) for a in self.pending + extra)
         if self.alternatives_requested:
-            self.proposal_serial = self.worker.propose("alternatives", where, ALTERNATIVES)
+            self._ask("alternatives", where, ALTERNATIVES)
         else:
-            self.proposal_serial = self.worker.propose("best", where, masked=self._grab is None)
+            self._ask("best", where, masked=self._grab is None)
+
+    def _ask(self, kind, where, alternatives=1, masked=True):
+        """Queue a proposal query; the newest is the one shown."""
+        self.proposal_serial = self.worker.propose(kind, where, alternatives, masked)
+        self._asked = (self.proposal_serial, time.monotonic())
 
     def _show(self):
         if not self.proposals:
             return
+        serial, asked = self._asked
+        if serial == self.proposal_serial:   # first shown for this query: its latency on screen
+            self.latencies_ms.append(1000.0 * (time.monotonic() - asked))
+            self._asked = (None, 0.0)
         self.index = min(self.want_index, len(self.proposals) - 1)
         loop = self.proposals[self.index]
         points, anchor = self._lifted(loop["points"], self.point)
