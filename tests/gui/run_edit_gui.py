@@ -122,6 +122,49 @@ def grab_and_drag(doc, view, tool, design):
               (len(back), len(old)))
 
 
+def grab_second_strip(doc, view, tool, design):
+    """With two strips (the meridian, then the outer equator), the equator
+    grabbed at Q and dragged up the tube to T: re-routed through T under the
+    meridian's mask, the meridian unchanged; undone after."""
+    from freecad.stripweave_wb import design_model
+    design_model.add_strip(design, [(0.0, -13.0, 0.0)])
+    tool.wait_idle(60)
+    meridian = loop_of(design, 0)
+    q, t = torus_point(-0.4, 0.0), torus_point(-0.4, 0.6)
+    start, end = h.screen_position(view, q), h.screen_position(view, t)
+    if not check("two strips: Q and T visible", tool.pick(*start) is not None and tool.pick(*end) is not None):
+        return
+    h.mouse_move(view, *start)
+    tool.wait_idle(30)
+    h.xdotool("mousedown", 1)
+    check("two strips: the press grabs strip 2", tool._grab is not None and tool._grab[0] == 1, tool._grab)
+    for k in range(1, 7):
+        gx, gy = h.x11_position(view, int(round(start[0] + (end[0] - start[0]) * k / 6.0)),
+                                int(round(start[1] + (end[1] - start[1]) * k / 6.0)))
+        h.xdotool("mousemove", gx, gy, settle=0.1)
+    tool.wait_idle(60)
+    h.xdotool("mouseup", 1)
+    wait_edit(tool)
+    anchor = anchors_of(design)[1][0]
+    moved = loop_of(design, 1)
+    check("two strips: still two, strip 2 through the release point",
+          design.StripCount == 2 and moved is not None and h.dist(anchor[:3], t) < 0.5
+          and gap(moved, anchor[:3]) < TOLERANCE,
+          (design.StripCount, anchor, None if moved is None else gap(moved, anchor[:3]), design.Status))
+    same = loop_of(design, 0)
+    check("two strips: the meridian unchanged", same is not None and len(same) == len(meridian)
+          and float(np.abs(same - meridian).max()) < 1e-9)
+    doc.undo()   # the re-route
+    doc.undo()   # the equator
+    tool.wait_idle(60)
+    check("two strips: undone", anchors_of(design) == [ANCHORS], anchors_of(design))
+
+
+def torus_point(phi, theta):
+    rho = 10 + 3 * math.cos(theta)
+    return (rho * math.cos(phi), rho * math.sin(phi), 3 * math.sin(theta))
+
+
 def edit_anchors(doc, tool, design):
     panel = tool.panel
     table = panel.table
@@ -266,6 +309,7 @@ def scenario():
     tool = design_tool.start(design)
     check("tool: design derived", tool.wait_idle(90) and tool.worker is not None)
     grab_and_drag(doc, view, tool, design)
+    grab_second_strip(doc, view, tool, design)
     edit_anchors(doc, tool, design)
     regions_and_options(doc, tool, design)
     tool.close()
