@@ -118,6 +118,29 @@ def torus_in_view(doc, name="Torus"):
     return torus
 
 
+def torus_point(phi, theta):
+    """The point of torus_in_view's torus at angles phi (about z) and theta (about the tube)."""
+    rho = 10 + 3 * math.cos(theta)
+    return (rho * math.cos(phi), rho * math.sin(phi), 3 * math.sin(theta))
+
+
+def design_tool_on(doc, source, triangles, anchors=(), derive_timeout=90):
+    """Prepare ``source``, add a Design (with one strip through ``anchors``
+    if given) and start the Design strips tool on it.  Returns (view,
+    design, tool), or None when the part could not be prepared (checked)."""
+    from freecad.stripweave_wb import design_commands, design_model, design_tool
+    sm = prepared(doc, source, triangles)
+    if not check("part prepared", sm is not None):
+        return None
+    view = Gui.activeDocument().activeView()
+    design = design_commands.new_design(sm)
+    if anchors:
+        design_model.add_strip(design, [list(a) for a in anchors])
+    tool = design_tool.start(design)
+    check("tool: design derived", tool.wait_idle(derive_timeout) and tool.worker is not None)
+    return view, design, tool
+
+
 def prepared(doc, source, triangles):
     """Prepare surface on ``source`` (waits for the build); its SurfaceModel or None."""
     from freecad.stripweave_wb import builder, commands
@@ -179,6 +202,15 @@ def mouse_move(view, x, y):
     gx, gy = x11_position(view, x, y)
     xdotool("mousemove", gx + 3, gy + 2, settle=0.05)
     xdotool("mousemove", gx, gy)
+
+
+def drag_steps(view, start, end, steps, settle=0.1):
+    """Move the real pointer (a button held or not) from Coin position
+    ``start`` to ``end`` in ``steps`` equal steps, as a hand would."""
+    for k in range(1, steps + 1):
+        x = start[0] + (end[0] - start[0]) * k / float(steps)
+        y = start[1] + (end[1] - start[1]) * k / float(steps)
+        xdotool("mousemove", *x11_position(view, int(round(x)), int(round(y))), settle=settle)
 
 
 def mouse_click(button=1):

@@ -80,11 +80,7 @@ def grab_and_drag(doc, view, tool, design):
     tool.wait_idle(30)
     h.xdotool("mousedown", 1)
     check("grab: the press on the loop grabs strip 1", tool._grab is not None and tool._grab[0] == 0)
-    for k in range(1, 9):
-        x = start[0] + (end[0] - start[0]) * k / 8.0
-        y = start[1] + (end[1] - start[1]) * k / 8.0
-        gx, gy = h.x11_position(view, int(round(x)), int(round(y)))
-        h.xdotool("mousemove", gx, gy, settle=0.1)
+    h.drag_steps(view, start, end, 8)
     tool.wait_idle(60)
     shown = tool.shown_proposal()
     if check("grab: the moved loop shown while dragging", shown is not None, tool.panel.proposal.text()):
@@ -130,7 +126,7 @@ def grab_second_strip(doc, view, tool, design):
     design_model.add_strip(design, [(0.0, -13.0, 0.0)])
     tool.wait_idle(60)
     meridian = loop_of(design, 0)
-    q, t = torus_point(-0.4, 0.0), torus_point(-0.4, 0.6)
+    q, t = h.torus_point(-0.4, 0.0), h.torus_point(-0.4, 0.6)
     start, end = h.screen_position(view, q), h.screen_position(view, t)
     if not check("two strips: Q and T visible", tool.pick(*start) is not None and tool.pick(*end) is not None):
         return
@@ -138,10 +134,7 @@ def grab_second_strip(doc, view, tool, design):
     tool.wait_idle(30)
     h.xdotool("mousedown", 1)
     check("two strips: the press grabs strip 2", tool._grab is not None and tool._grab[0] == 1, tool._grab)
-    for k in range(1, 7):
-        gx, gy = h.x11_position(view, int(round(start[0] + (end[0] - start[0]) * k / 6.0)),
-                                int(round(start[1] + (end[1] - start[1]) * k / 6.0)))
-        h.xdotool("mousemove", gx, gy, settle=0.1)
+    h.drag_steps(view, start, end, 6)
     tool.wait_idle(60)
     h.xdotool("mouseup", 1)
     wait_edit(tool)
@@ -158,11 +151,6 @@ def grab_second_strip(doc, view, tool, design):
     doc.undo()   # the equator
     tool.wait_idle(60)
     check("two strips: undone", anchors_of(design) == [ANCHORS], anchors_of(design))
-
-
-def torus_point(phi, theta):
-    rho = 10 + 3 * math.cos(theta)
-    return (rho * math.cos(phi), rho * math.sin(phi), 3 * math.sin(theta))
 
 
 def edit_anchors(doc, tool, design):
@@ -294,20 +282,14 @@ def regions_and_options(doc, tool, design):
 
 
 def scenario():
-    from freecad.stripweave_wb import design_commands, design_model, design_tool
     Gui.activateWorkbench("StripWeaveWorkbench")
     doc = App.newDocument("StripWeaveEdit")
-    torus = h.torus_in_view(doc)
-    sm = h.prepared(doc, torus, TRIANGLES)
-    if not check("torus prepared", sm is not None):
+    started = h.design_tool_on(doc, h.torus_in_view(doc), TRIANGLES, ANCHORS)
+    if started is None:
         return
-    view = Gui.activeDocument().activeView()
-    design = design_commands.new_design(sm)
-    design_model.add_strip(design, ANCHORS)
+    view, design, tool = started
     check("the meridian strip", design.StripCount == 1 and meridian_offset(loop_of(design), 0.0) < 0.05,
           design.Status)
-    tool = design_tool.start(design)
-    check("tool: design derived", tool.wait_idle(90) and tool.worker is not None)
     grab_and_drag(doc, view, tool, design)
     grab_second_strip(doc, view, tool, design)
     edit_anchors(doc, tool, design)

@@ -115,17 +115,12 @@ def sweep(view, tool, targets, scale):
 
 
 def scenario():
-    from freecad.stripweave_wb import design_commands, design_tool
     Gui.activateWorkbench("StripWeaveWorkbench")
     doc = App.newDocument("StripWeaveHover")
-    part = load_part(doc)
-    sm = h.prepared(doc, part, TRIANGLES)
-    if not check("part prepared", sm is not None):
+    started = h.design_tool_on(doc, load_part(doc), TRIANGLES, derive_timeout=200)
+    if started is None:
         return
-    view = Gui.activeDocument().activeView()
-    design = design_commands.new_design(sm)
-    tool = design_tool.start(design)
-    check("tool: design derived", tool.wait_idle(200) and tool.worker is not None)
+    view, design, tool = started
     d = design.Proxy.derived(design)
     scale = float(np.linalg.norm(np.ptp(d.vertices, axis=0)))
     h.result["info"]["model"] = os.path.basename(MODEL) if MODEL else "generated torus"
