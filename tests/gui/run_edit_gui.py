@@ -30,7 +30,7 @@ import numpy as np  # noqa: E402
 
 import FreeCAD as App  # noqa: E402
 import FreeCADGui as Gui  # noqa: E402
-from PySide import QtGui  # noqa: E402
+from PySide import QtCore, QtGui  # noqa: E402
 
 import gui_harness as h  # noqa: E402
 from gui_harness import check  # noqa: E402
@@ -67,6 +67,10 @@ def wait_edit(tool, timeout=120):
     return tool.wait_idle(timeout)
 
 
+def cursor():
+    return h.viewport_widget().cursor().shape()
+
+
 def grab_and_drag(doc, view, tool, design):
     old = loop_of(design)
     start, end = h.screen_position(view, P), h.screen_position(view, R)
@@ -78,8 +82,10 @@ def grab_and_drag(doc, view, tool, design):
         return
     h.mouse_move(view, *start)
     tool.wait_idle(30)
+    check("grab: an open hand over the loop", cursor() == QtCore.Qt.OpenHandCursor, cursor())
     h.xdotool("mousedown", 1)
     check("grab: the press on the loop grabs strip 1", tool._grab is not None and tool._grab[0] == 0)
+    check("grab: a closed hand while grabbing", cursor() == QtCore.Qt.ClosedHandCursor, cursor())
     h.drag_steps(view, start, end, 8)
     tool.wait_idle(60)
     shown = tool.shown_proposal()
@@ -91,6 +97,7 @@ def grab_and_drag(doc, view, tool, design):
     check("screenshot grab.png", h.save_screenshot(view, shot), shot)
     h.xdotool("mouseup", 1)
     wait_edit(tool)
+    check("release: the hand gone", cursor() != QtCore.Qt.ClosedHandCursor, cursor())
     new = loop_of(design)
     check("release: the strip count is unchanged", design.StripCount == 1, (design.StripCount, design.Status))
     if check("release: the strip is derived", new is not None):

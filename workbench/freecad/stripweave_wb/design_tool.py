@@ -16,7 +16,8 @@
   view (``SelectionSuspended``), and the press and the release of a click
   on the model are both marked handled, so neither selects the part;
 * grab-and-drag (§4.1's route-planner metaphor): a press on a committed
-  strip's loop (within GRAB_TOLERANCE_PX of it) grabs that loop; dragging
+  strip's loop (within GRAB_TOLERANCE_PX of it; the cursor is an open hand
+  there) grabs that loop; dragging
   shows the loop through the cursor along the grabbed loop's direction
   there, and the release re-routes the strip: its anchors are replaced by
   that one directional anchor and the design re-derives (one undoable
@@ -240,6 +241,7 @@ class DesignTool:
                 w.removeEventFilter(self._filter)
             except RuntimeError:
                 pass
+        self._set_cursor(None)
         self._filtered = []
         if self._selection is not None:
             self._selection.restore()
@@ -339,6 +341,8 @@ class DesignTool:
                 event_cb.setHandled()
                 if not self.pending:  # Shift+click's strip in the making: drags are directional anchors
                     self._grab = self.grabbed_strip(self._press_point)
+                    if self._grab is not None:
+                        self._set_cursor(QtCore.Qt.ClosedHandCursor)
         elif ev.getState() == coin.SoButtonEvent.UP and self._press is not None:
             px, py = self._press
             self._press = None
@@ -346,6 +350,7 @@ class DesignTool:
             clicked = abs(x - px) <= CLICK_TOLERANCE_PX and abs(y - py) <= CLICK_TOLERANCE_PX
             shift = ev.wasShiftDown() or bool(QtGui.QApplication.keyboardModifiers() & QtCore.Qt.ShiftModifier)
             grab, self._grab = self._grab, None
+            self._set_cursor(None)
             if grab is not None and not clicked:
                 self.reroute_screen(grab, x, y)
             elif shift:
@@ -528,9 +533,26 @@ class DesignTool:
         if self.closed:
             return None
         point = self.pick(x, y)
+        self._set_cursor(QtCore.Qt.OpenHandCursor if point is not None and not self.pending
+                         and self.grabbed_strip(point) is not None else None)
         if point is not None:
             self.hover_point(point)
         return point
+
+    def _set_cursor(self, shape):
+        """An open hand over a committed loop (a press grabs it), a closed
+        hand while one is grabbed; FreeCAD's cursor elsewhere."""
+        if shape == getattr(self, "_cursor", None):
+            return
+        self._cursor = shape
+        for w in self._filtered:
+            try:
+                if shape is None:
+                    w.unsetCursor()
+                else:
+                    w.setCursor(QtGui.QCursor(shape))
+            except RuntimeError:   # the view was closed
+                pass
 
     def hover_point(self, point):
         """Propose the best loop through ``point`` (a surface point)."""
