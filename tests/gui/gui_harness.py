@@ -213,6 +213,14 @@ def drag_steps(view, start, end, steps, settle=0.1):
         xdotool("mousemove", *x11_position(view, int(round(x)), int(round(y))), settle=settle)
 
 
+def shift_click(view, point):
+    """Real Shift + left click on model point ``point``."""
+    mouse_move(view, *screen_position(view, point))
+    xdotool("keydown", "shift", settle=0.05)
+    mouse_click(1)
+    xdotool("keyup", "shift")
+
+
 def mouse_click(button=1):
     xdotool("click", button)
 

@@ -56,11 +56,7 @@ def angle_deg(a, b):
 
 
 def shift_click(view, tool, point):
-    """Real Shift + left click on ``point``."""
-    h.mouse_move(view, *h.screen_position(view, point))
-    h.xdotool("keydown", "shift", settle=0.05)
-    h.mouse_click(1)
-    h.xdotool("keyup", "shift")
+    h.shift_click(view, point)
     tool.wait_idle(60)
 
 

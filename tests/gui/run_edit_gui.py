@@ -288,6 +288,59 @@ def regions_and_options(doc, tool, design):
     click_tab(panel, "Strips")
 
 
+def on_outer_equator(points):
+    pts = np.asarray(points, dtype=float)
+    return float(max(np.abs(pts[:, 2]).max(), np.abs(np.hypot(pts[:, 0], pts[:, 1]) - 13).max()))
+
+
+def grab_current_loop(doc, view, sm):
+    """A second design: Shift+click at P makes P pending; a plain drag from P
+    to B (on the outer equator, 45 degrees on) grabs the current loop, which
+    follows the cursor; the release adds an anchor at B (two pending, no
+    strip yet) and the loop through both is the outer equator; Enter adds it."""
+    from freecad.stripweave_wb import design_commands, design_tool
+    for o in doc.Objects:   # the first design's stripes lie over the surface (they would take the picks)
+        if o.ViewObject is not None and o.Name.startswith("Design"):
+            o.ViewObject.Visibility = False
+    design = design_commands.new_design(sm)
+    tool = design_tool.start(design)
+    check("current loop: tool on a second design", tool.wait_idle(90) and tool.worker is not None)
+    b = (9.19, -9.19, 0.0)
+    h.shift_click(view, P)
+    tool.wait_idle(60)
+    check("current loop: one anchor pending", len(tool.pending) == 1, tool.pending)
+    start, end = h.screen_position(view, P), h.screen_position(view, b)
+    h.mouse_move(view, *start)
+    tool.wait_idle(30)
+    check("current loop: an open hand (a drag moves it)", cursor() == QtCore.Qt.OpenHandCursor, cursor())
+    h.xdotool("mousedown", 1)
+    h.drag_steps(view, start, end, 6)
+    tool.wait_idle(60)
+    shown = tool.shown_proposal()
+    check("current loop: it follows the cursor while dragged",
+          shown is not None and tool.point is not None and gap(np.asarray(shown["points"]), tool.point) < TOLERANCE,
+          tool.panel.proposal.text())
+    h.xdotool("mouseup", 1)
+    tool.wait_idle(60)
+    check("current loop: the release adds an anchor there, no strip yet",
+          len(tool.pending) == 2 and h.dist(tool.pending[1], b) < 0.5 and design.StripCount == 0,
+          (tool.pending, design.StripCount))
+    shown = tool.shown_proposal()
+    check("current loop: the loop through both anchors is the outer equator",
+          shown is not None and shown.get("exact") and on_outer_equator(shown["points"]) < 0.3,
+          None if shown is None else on_outer_equator(shown["points"]))
+    h.key("Return")
+    h.wait_until(lambda: tool.add_serial is None, 5)
+    wait_edit(tool)
+    loop = loop_of(design)
+    check("current loop: Enter adds the outer equator",
+          design.StripCount == 1 and loop is not None and on_outer_equator(loop) < 0.3,
+          (design.StripCount, None if loop is None else on_outer_equator(loop)))
+    shot = os.path.join(WORKDIR, "current_loop.png")
+    check("screenshot current_loop.png", h.save_screenshot(view, shot), shot)
+    tool.close()
+
+
 def scenario():
     Gui.activateWorkbench("StripWeaveWorkbench")
     doc = App.newDocument("StripWeaveEdit")
@@ -302,6 +355,8 @@ def scenario():
     edit_anchors(doc, tool, design)
     regions_and_options(doc, tool, design)
     tool.close()
+    h.pump(0.3)
+    grab_current_loop(doc, view, design.Surface)
     h.pump(0.3)
     errors = h.tracebacks_in_report_view()
     check("no tracebacks in the report view", not errors, errors[:5])

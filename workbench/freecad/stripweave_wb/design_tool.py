@@ -24,7 +24,8 @@
   transaction "Re-route strip"; a refused re-route changes nothing);
 * Shift+click collects anchors for one strip, the preview
   shows the loop through them (and the cursor), Enter adds it, Esc drops
-  them;
+  them; with anchors pending, a drag grabs that current loop (§4.1): it
+  follows the cursor, and the release adds an anchor there;
 * a drag from a point on the model (more than CLICK_TOLERANCE_PX) sets a
   directional anchor there along the drag: the loop through the point in
   that direction follows the drag live, and the release adds it (as a click
@@ -180,6 +181,7 @@ class DesignTool:
         self.add_base = None          # DesignJson the edit is based on
         self.edit_name = None         # the transaction name of a strip edit in flight
         self._grab = None             # (strip index, its loop's points) while a loop is grabbed
+        self._grab_current = False    # the loop of the strip being made is grabbed
         self._asked = (None, 0.0)     # (serial, time) of the newest proposal query
         # Milliseconds from a query (a hover, a drag step, a browse) to its preview on
         # screen, the newest last (a figure for bench notes and tests).
@@ -291,6 +293,8 @@ class DesignTool:
             event_cb.setHandled()
             if self._grab is not None:
                 self.grab_screen(x, y)
+            elif self._grab_current:
+                self.hover_screen(x, y)   # the loop through the pending anchors and the cursor
             else:
                 self.drag_screen(x, y)
             return
@@ -337,12 +341,16 @@ class DesignTool:
             self._press = (x, y) if self._press_point is not None else None
             self.drag_anchor = None
             self._grab = None
+            self._grab_current = False
             if self._press is not None:
                 event_cb.setHandled()
-                if not self.pending:  # Shift+click's strip in the making: drags are directional anchors
+                if self.pending:   # the strip being made: its loop passes the cursor, a drag moves it
+                    self._grab_current = not (ev.wasShiftDown() or bool(
+                        QtGui.QApplication.keyboardModifiers() & QtCore.Qt.ShiftModifier))
+                else:
                     self._grab = self.grabbed_strip(self._press_point)
-                    if self._grab is not None:
-                        self._set_cursor(QtCore.Qt.ClosedHandCursor)
+                if self._grab is not None or self._grab_current:
+                    self._set_cursor(QtCore.Qt.ClosedHandCursor)
         elif ev.getState() == coin.SoButtonEvent.UP and self._press is not None:
             px, py = self._press
             self._press = None
@@ -350,9 +358,14 @@ class DesignTool:
             clicked = abs(x - px) <= CLICK_TOLERANCE_PX and abs(y - py) <= CLICK_TOLERANCE_PX
             shift = ev.wasShiftDown() or bool(QtGui.QApplication.keyboardModifiers() & QtCore.Qt.ShiftModifier)
             grab, self._grab = self._grab, None
+            grab_current, self._grab_current = self._grab_current, False
             self._set_cursor(None)
             if grab is not None and not clicked:
                 self.reroute_screen(grab, x, y)
+            elif grab_current and not clicked:
+                anchor = self.pick(x, y) or self.point
+                if anchor is not None:
+                    self.add_anchor(anchor)
             elif shift:
                 anchor = self.pick(x, y) if clicked else self.drag_anchor
                 if anchor is not None:
@@ -533,8 +546,9 @@ class DesignTool:
         if self.closed:
             return None
         point = self.pick(x, y)
-        self._set_cursor(QtCore.Qt.OpenHandCursor if point is not None and not self.pending
-                         and self.grabbed_strip(point) is not None else None)
+        # anchors pending: the current loop passes the cursor, a drag moves it
+        self._set_cursor(QtCore.Qt.OpenHandCursor if point is not None and (
+            self.pending or self.grabbed_strip(point) is not None) else None)
         if point is not None:
             self.hover_point(point)
         return point
