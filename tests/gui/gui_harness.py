@@ -141,6 +141,20 @@ def design_tool_on(doc, source, triangles, anchors=(), derive_timeout=90):
     return view, design, tool
 
 
+def tool_on_new_design(doc, sm, label):
+    """Hide the document's designs (their stripes lie over the surface and
+    would take the picks), add a new Design on ``sm`` and start the tool on
+    it (checked as ``label``).  Returns (design, tool)."""
+    from freecad.stripweave_wb import design_commands, design_tool
+    for o in doc.Objects:
+        if o.ViewObject is not None and o.Name.startswith("Design"):
+            o.ViewObject.Visibility = False
+    design = design_commands.new_design(sm)
+    tool = design_tool.start(design)
+    check("{}: tool on a new design".format(label), tool.wait_idle(90) and tool.worker is not None)
+    return design, tool
+
+
 def prepared(doc, source, triangles):
     """Prepare surface on ``source`` (waits for the build); its SurfaceModel or None."""
     from freecad.stripweave_wb import builder, commands

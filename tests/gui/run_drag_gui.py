@@ -65,13 +65,8 @@ def shift_click_anchors(doc, view, sm):
     the preview is the loop through both (the outer equator, where a plain
     click at A1 gives a meridian); Esc drops a third pending anchor, Enter
     adds the strip through A1 and A2."""
-    from freecad.stripweave_wb import design_commands, design_tool
-    for o in doc.Objects:   # the first design's stripes lie over the surface (they would take the picks)
-        if o.ViewObject is not None and o.Name.startswith("Design"):
-            o.ViewObject.Visibility = False
-    design = design_commands.new_design(sm)
-    tool = design_tool.start(design)
-    check("Shift+click: tool on a second design", tool.wait_idle(90) and tool.worker is not None)
+    from freecad.stripweave_wb import design_tool
+    design, tool = h.tool_on_new_design(doc, sm, "Shift+click")
     a1, a2 = (13.0, 0.0, 0.0), (9.19, -9.19, 0.0)
     for a in (a1, a2):
         shift_click(view, tool, a)

@@ -298,13 +298,7 @@ def grab_current_loop(doc, view, sm):
     to B (on the outer equator, 45 degrees on) grabs the current loop, which
     follows the cursor; the release adds an anchor at B (two pending, no
     strip yet) and the loop through both is the outer equator; Enter adds it."""
-    from freecad.stripweave_wb import design_commands, design_tool
-    for o in doc.Objects:   # the first design's stripes lie over the surface (they would take the picks)
-        if o.ViewObject is not None and o.Name.startswith("Design"):
-            o.ViewObject.Visibility = False
-    design = design_commands.new_design(sm)
-    tool = design_tool.start(design)
-    check("current loop: tool on a second design", tool.wait_idle(90) and tool.worker is not None)
+    design, tool = h.tool_on_new_design(doc, sm, "current loop")
     b = (9.19, -9.19, 0.0)
     h.shift_click(view, P)
     tool.wait_idle(60)
