@@ -254,6 +254,9 @@ def regions_and_options(doc, tool, design):
     panel_fits(panel, "layout_tab.png")
 
     click_tab(panel, "Options")
+    check("Options: the band's precision follows the model (diagonal 37: 1e-3, steps of 0.1)",
+          panel.band.decimals() == 3 and abs(panel.band.singleStep() - 0.1) < 1e-12,
+          (panel.band.decimals(), panel.band.singleStep()))
     h.click_widget(panel.band)
     h.key("ctrl+a")
     h.xdotool("type", "2.5")

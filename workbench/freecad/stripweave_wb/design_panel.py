@@ -298,6 +298,18 @@ class DesignPanel:
         self.table.blockSignals(False)
         self._show_anchors()
 
+    def set_scale(self, diagonal):
+        """The band's precision from the model's size (its bounding-box
+        diagonal): 1e-4 of it, steps of 1e-2 of it (a part in metres and one
+        in millimetres both get four digits)."""
+        import math
+        if not diagonal > 0:
+            return
+        self.band.blockSignals(True)
+        self.band.setDecimals(max(0, -int(math.floor(math.log10(diagonal * 1e-4)))))
+        self.band.setSingleStep(10.0 ** math.floor(math.log10(diagonal * 1e-2)))
+        self.band.blockSignals(False)
+
     def set_options(self, options):
         """Show the design's options (without applying them again)."""
         band = options.get("compatibility_band")

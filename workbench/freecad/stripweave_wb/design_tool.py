@@ -277,6 +277,7 @@ class DesignTool:
         if self.worker is None:
             self.worker = QueryWorker(self.cache)
         obj = self.obj()
+        self.panel.set_scale(self._scale())
         self._refresh_panel(obj)
         if not self.last_error:
             self.panel.set_status(obj.Status)
