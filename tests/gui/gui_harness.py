@@ -118,6 +118,43 @@ def torus_in_view(doc, name="Torus"):
     return torus
 
 
+def torus_point(phi, theta):
+    """The point of torus_in_view's torus at angles phi (about z) and theta (about the tube)."""
+    rho = 10 + 3 * math.cos(theta)
+    return (rho * math.cos(phi), rho * math.sin(phi), 3 * math.sin(theta))
+
+
+def design_tool_on(doc, source, triangles, anchors=(), derive_timeout=90):
+    """Prepare ``source``, add a Design (with one strip through ``anchors``
+    if given) and start the Design strips tool on it.  Returns (view,
+    design, tool), or None when the part could not be prepared (checked)."""
+    from freecad.stripweave_wb import design_commands, design_model, design_tool
+    sm = prepared(doc, source, triangles)
+    if not check("part prepared", sm is not None):
+        return None
+    view = Gui.activeDocument().activeView()
+    design = design_commands.new_design(sm)
+    if anchors:
+        design_model.add_strip(design, [list(a) for a in anchors])
+    tool = design_tool.start(design)
+    check("tool: design derived", tool.wait_idle(derive_timeout) and tool.worker is not None)
+    return view, design, tool
+
+
+def tool_on_new_design(doc, sm, label):
+    """Hide the document's designs (their stripes lie over the surface and
+    would take the picks), add a new Design on ``sm`` and start the tool on
+    it (checked as ``label``).  Returns (design, tool)."""
+    from freecad.stripweave_wb import design_commands, design_tool
+    for o in doc.Objects:
+        if o.ViewObject is not None and o.Name.startswith("Design"):
+            o.ViewObject.Visibility = False
+    design = design_commands.new_design(sm)
+    tool = design_tool.start(design)
+    check("{}: tool on a new design".format(label), tool.wait_idle(90) and tool.worker is not None)
+    return design, tool
+
+
 def prepared(doc, source, triangles):
     """Prepare surface on ``source`` (waits for the build); its SurfaceModel or None."""
     from freecad.stripweave_wb import builder, commands
@@ -181,6 +218,23 @@ def mouse_move(view, x, y):
     xdotool("mousemove", gx, gy)
 
 
+def drag_steps(view, start, end, steps, settle=0.1):
+    """Move the real pointer (a button held or not) from Coin position
+    ``start`` to ``end`` in ``steps`` equal steps, as a hand would."""
+    for k in range(1, steps + 1):
+        x = start[0] + (end[0] - start[0]) * k / float(steps)
+        y = start[1] + (end[1] - start[1]) * k / float(steps)
+        xdotool("mousemove", *x11_position(view, int(round(x)), int(round(y))), settle=settle)
+
+
+def shift_click(view, point):
+    """Real Shift + left click on model point ``point``."""
+    mouse_move(view, *screen_position(view, point))
+    xdotool("keydown", "shift", settle=0.05)
+    mouse_click(1)
+    xdotool("keyup", "shift")
+
+
 def mouse_click(button=1):
     xdotool("click", button)
 
@@ -199,6 +253,22 @@ def ctrl_wheel(notches):
 
 def key(name):
     xdotool("key", name)
+
+
+def click_widget(widget, point=None):
+    """A real click in the middle of ``widget`` (or at its local QPoint
+    ``point``); a widget in a scroll area (the task view) is scrolled into
+    sight first, as a user would."""
+    parent = widget.parentWidget()
+    while parent is not None and not isinstance(parent, QtGui.QScrollArea):
+        parent = parent.parentWidget()
+    if parent is not None:
+        parent.ensureWidgetVisible(widget)
+        pump(0.1)
+    dpr = widget.devicePixelRatioF() if hasattr(widget, "devicePixelRatioF") else 1.0
+    centre = widget.mapToGlobal(point if point is not None else widget.rect().center())
+    xdotool("mousemove", int(centre.x() * dpr), int(centre.y() * dpr), settle=0.05)
+    xdotool("click", 1, settle=0.0)
 
 
 def save_screenshot(view, path):

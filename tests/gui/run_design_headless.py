@@ -97,6 +97,48 @@ try:
     design.Features = True
     doc.recompute()
 
+    # edit_strip: the meridian moved to phi = 90 degrees (one transaction), undone
+    def anchors_in_json():
+        return [[a["point"] + (a["direction"] or []) for a in st["anchors"]]
+                for st in json.loads(design.DesignJson)["strips"]]
+    before = anchors_in_json()
+    design_model.edit_strip(design, 0, [(0, 13, 0, 0, 0, 1)])
+    loop = design.Proxy.derived(design).strips[0]["points"]
+    result["edited"] = {"anchors": anchors_in_json(), "undo": (doc.UndoNames or [None])[0],
+                        "wires": len(design.Shape.Wires),
+                        "max_abs_x": float(max(abs(p[0]) for p in loop))}
+    doc.undo()
+    doc.recompute()
+    result["edit_undone"] = anchors_in_json() == before
+    # an edit the design refuses (strip 2 made parallel to strip 1): the document unchanged
+    design_model.add_strip(design, [(0, 13, 0)])
+    two = design.DesignJson
+    try:
+        design_model.edit_strip(design, 1, [(0, 13, 0, 0, 0, 1)])
+        result["edit_refused"] = None
+    except Exception as exc:
+        result["edit_refused"] = "{}: {}".format(type(exc).__name__, exc)
+    result["edit_refused_unchanged"] = design.DesignJson == two and (doc.UndoNames or [None])[0] == "Add strip"
+    doc.undo()
+    doc.recompute()
+
+    # set_options: the band in one transaction, the session takes it at the recompute
+    design_model.set_options(design, compatibility_band=2.5)
+    doc.recompute()
+    session = design.Proxy.cache().session
+    result["band"] = {"json": json.loads(design.DesignJson)["options"]["compatibility_band"],
+                      "undo": (doc.UndoNames or [None])[0], "native": session.native.compatibility_band,
+                      "strip_count": design.StripCount}
+    try:
+        design_model.set_options(design, compatibility_band=-1.0)
+        result["bad_band"] = None
+    except Exception as exc:
+        result["bad_band"] = "{}: {}".format(type(exc).__name__, exc)
+    result["bad_band_unchanged"] = json.loads(design.DesignJson)["options"]["compatibility_band"] == 2.5
+    design_model.set_options(design, compatibility_band=None)
+    doc.recompute()
+    result["band_back"] = design.Proxy.cache().session.native.compatibility_band
+
     # export / import
     path = os.path.join(WORKDIR, "torus_design.json")
     design_model.export_design(design, path)

@@ -35,11 +35,6 @@ NORMAL = (1.0, 0.0, 0.0)          # the torus's normal at P
 PHI, THETA = 0.1, 0.1 * 13 / 3    # equal arcs along the equator and the meridian: 45 degrees
 
 
-def torus_point(phi, theta):
-    rho = 10 + 3 * math.cos(theta)
-    return (rho * math.cos(phi), rho * math.sin(phi), 3 * math.sin(theta))
-
-
 def tangent_at(points, p):
     pts = np.asarray(points, dtype=float).reshape(-1, 3)
     i = int(np.argmin(np.linalg.norm(pts - np.asarray(p), axis=1)))
@@ -61,11 +56,7 @@ def angle_deg(a, b):
 
 
 def shift_click(view, tool, point):
-    """Real Shift + left click on ``point``."""
-    h.mouse_move(view, *h.screen_position(view, point))
-    h.xdotool("keydown", "shift", settle=0.05)
-    h.mouse_click(1)
-    h.xdotool("keyup", "shift")
+    h.shift_click(view, point)
     tool.wait_idle(60)
 
 
@@ -74,13 +65,8 @@ def shift_click_anchors(doc, view, sm):
     the preview is the loop through both (the outer equator, where a plain
     click at A1 gives a meridian); Esc drops a third pending anchor, Enter
     adds the strip through A1 and A2."""
-    from freecad.stripweave_wb import design_commands, design_tool
-    for o in doc.Objects:   # the first design's stripes lie over the surface (they would take the picks)
-        if o.ViewObject is not None and o.Name.startswith("Design"):
-            o.ViewObject.Visibility = False
-    design = design_commands.new_design(sm)
-    tool = design_tool.start(design)
-    check("Shift+click: tool on a second design", tool.wait_idle(90) and tool.worker is not None)
+    from freecad.stripweave_wb import design_tool
+    design, tool = h.tool_on_new_design(doc, sm, "Shift+click")
     a1, a2 = (13.0, 0.0, 0.0), (9.19, -9.19, 0.0)
     for a in (a1, a2):
         shift_click(view, tool, a)
@@ -120,20 +106,16 @@ def shift_click_anchors(doc, view, sm):
 
 
 def scenario():
-    from freecad.stripweave_wb import design_commands, design_tool
     Gui.activateWorkbench("StripWeaveWorkbench")
     doc = App.newDocument("StripWeaveDrag")
-    torus = h.torus_in_view(doc)
-    sm = h.prepared(doc, torus, TRIANGLES)
-    if not check("torus prepared", sm is not None):
+    started = h.design_tool_on(doc, h.torus_in_view(doc), TRIANGLES)
+    if started is None:
         return
-    view = Gui.activeDocument().activeView()
-    design = design_commands.new_design(sm)
-    tool = design_tool.start(design)
-    check("tool: design derived", tool.wait_idle(90) and tool.worker is not None)
+    view, design, tool = started
+    sm = design.Surface
 
     start = h.screen_position(view, P)
-    target = torus_point(PHI, THETA)
+    target = h.torus_point(PHI, THETA)
     end = h.screen_position(view, target)
     picked = tool.pick(*start)
     if not check("P visible", picked is not None and h.dist(picked, P) < 0.5, picked):
@@ -142,11 +124,7 @@ def scenario():
     h.mouse_move(view, *start)
     tool.wait_idle(30)
     h.xdotool("mousedown", 1)
-    for k in range(1, 7):
-        x = start[0] + (end[0] - start[0]) * k / 6.0
-        y = start[1] + (end[1] - start[1]) * k / 6.0
-        gx, gy = h.x11_position(view, int(round(x)), int(round(y)))
-        h.xdotool("mousemove", gx, gy, settle=0.1)
+    h.drag_steps(view, start, end, 6)
     h.wait_until(lambda: tool.drag_anchor is not None, 5)
     tool.wait_idle(60)
     anchor = tool.drag_anchor

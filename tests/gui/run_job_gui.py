@@ -66,12 +66,7 @@ def cancel_button():
     return None
 
 
-def click_widget(widget):
-    """A real click in the middle of ``widget``."""
-    dpr = widget.devicePixelRatioF() if hasattr(widget, "devicePixelRatioF") else 1.0
-    centre = widget.mapToGlobal(widget.rect().center())
-    h.xdotool("mousemove", int(centre.x() * dpr), int(centre.y() * dpr), settle=0.05)
-    h.xdotool("click", 1, settle=0.0)
+click_widget = h.click_widget
 
 
 def type_into_dialog(path, out, tries=40):

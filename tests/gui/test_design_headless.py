@@ -80,3 +80,21 @@ def test_reopened_document_keeps_design_and_rebuilds_session(run):
     assert not r["derived_before"] and r["derived_after"]
     assert r["session_strips"] == 1
     assert r["session_length"] == pytest.approx(run["expected_length"], rel=0.02)
+
+
+def test_edit_strip_replaces_the_anchors_in_one_undoable_step(run):
+    e = run["edited"]
+    assert e["anchors"] == [[[0, 13, 0, 0, 0, 1]]] and e["undo"] == "Edit strip" and e["wires"] == 1
+    assert e["max_abs_x"] < 0.5           # the meridian at phi = 90 degrees (x = 0)
+    assert run["edit_undone"]
+
+
+def test_refused_edit_leaves_the_document_unchanged(run):
+    assert run["edit_refused"] and "InputError" in run["edit_refused"]
+    assert run["edit_refused_unchanged"]
+
+
+def test_set_options_applies_the_band_to_the_session(run):
+    assert run["band"] == {"json": 2.5, "undo": "Set compatibility band", "native": 2.5, "strip_count": 1}
+    assert run["bad_band"] and "compatibility_band" in run["bad_band"] and run["bad_band_unchanged"]
+    assert run["band_back"] is None

@@ -6,6 +6,7 @@ App side (works under ``freecadcmd`` too)::
     from freecad.stripweave_wb import design_model
     obj = design_model.create(surface_model)
     design_model.add_strip(obj, [(13, 0, 0, 0, 0, 1)])   # one undoable transaction
+    design_model.edit_strip(obj, 0, [(13, 0, 0)])        # its anchors replaced, re-derived
     obj.Shape                       # compound of the strips' loops (closed wires)
     obj.Proxy.derived(obj)          # snapshot: strips, stripe coordinates, singularities
 
@@ -382,6 +383,44 @@ def add_strip(obj, anchors):
     data, _derived = proxy.cache().add_strip(anchors)
     write_design(obj, data, "Add strip")
     return len(data["strips"]) - 1
+
+
+def edit_strip(obj, index, anchors, name="Edit strip"):
+    """Replace strip ``index``'s anchors (what a grab-and-drag's re-route,
+    or an anchor deleted or made positional, does).  Derived first: if the
+    design does not derive with them the InputError propagates and the
+    document is unchanged; otherwise one transaction ``name``."""
+    proxy = obj.Proxy
+    proxy.sync(obj)
+    data, _derived = proxy.cache().edit_strip(index, anchors)
+    write_design(obj, data, name)
+
+
+OPTION_NAMES = {"compatibility_band": "Set compatibility band", "boundary": "Set boundary mode"}
+
+
+def set_options(obj, **options):
+    """Set design options (``compatibility_band``: model units or None, the
+    whole strip; ``boundary``: "aligned" or "trimmed") in one transaction,
+    validated first (InputError, the document unchanged).  Does not
+    recompute: the caller recomputes (the design tool derives in the
+    background).  True if anything changed."""
+    import_stripweave()
+    from stripweave.design import Design
+    unknown = set(options) - set(OPTION_NAMES)
+    if unknown:
+        raise ValueError("StripWeave: set_options takes {}, not {}".format(sorted(OPTION_NAMES), sorted(unknown)))
+    data = json.loads(obj.DesignJson) if obj.DesignJson else new_design_dict(obj.Surface)
+    current = {**Design.from_dict(data).options}
+    changed = {k: v for k, v in options.items() if current.get(k) != v}
+    if not changed:
+        return False
+    data.setdefault("options", {}).update(changed)
+    data = Design.from_dict(data).to_dict()   # validates the new values
+    name = OPTION_NAMES[next(iter(changed))] if len(changed) == 1 else "Set design options"
+    with transaction(obj.Document, name):
+        obj.DesignJson = json.dumps(data, indent=1)
+    return True
 
 
 def remove_strip(obj, index):

@@ -1,17 +1,28 @@
-"""Task panel of the "Design strips" tool: how to use it, the current
-proposal, the strips (length, widths, area %) with Remove buttons, the
-singularity counts and fold-overs, and Close.  Widgets only: every action
-goes back to the tool (design_tool.py)."""
+"""Task panel of the "Design strips" tool: how to use it and the current
+proposal; then tabs (the panel fits the default combo view):
+
+* Strips: the strips (length, widths, area %) with Remove buttons, the
+  singularity counts and fold-overs; a selected row's anchors are listed in
+* Anchors: with their direction flags; Delete anchor, Make positional;
+* Layout: the regions by colour (red, crease, orange, yellow; §4.2), each
+  with where it is, and the layout's defects (region_list.py);
+* Options: the compatibility band and the boundary mode of the design,
+  applied to the running session (each change one undoable transaction);
+
+and the status line and Close.  Widgets only: every action goes back to
+the tool (design_tool.py)."""
 
 from PySide import QtCore, QtGui
 
 from . import WORKBENCH_ICON
 
-HELP = ("Hover the surface: the best strip through the cursor.\n"
-        "Ctrl+wheel: browse alternative strips.\n"
-        "Click: add the strip.   Esc: close.")
+HELP = ("Hover: the best strip. Ctrl+wheel: others. Click: add it. Drag: give its direction. "
+        "Drag a strip: move it. Shift+click, Enter: several anchors. Esc: close.")
 COLUMNS = ("#", "", "length", "width L / R", "area %")  # Remove second: visible in a narrow panel
 REMOVE_COLUMN = 1
+TABS = ("Strips", "Anchors", "Layout", "Options")
+WHOLE_STRIP = "whole strip"   # the band's special value (0): the paper's compatibility (§6.2)
+BOUNDARY_MODES = ("aligned", "trimmed")
 
 
 def _fmt(x, digits=3):
@@ -19,6 +30,13 @@ def _fmt(x, digits=3):
         return "{:.{}g}".format(float(x), digits + 1)
     except (TypeError, ValueError):
         return "-"
+
+
+def _compact(widget, height):
+    """Never wider than the task view (scroll instead), at most ``height`` high."""
+    widget.setSizePolicy(QtGui.QSizePolicy.Ignored, QtGui.QSizePolicy.Preferred)
+    widget.setMaximumHeight(height)
+    return widget
 
 
 class DesignPanel:
@@ -35,35 +53,26 @@ class DesignPanel:
         help_label.setWordWrap(True)
         layout.addWidget(self.title)
         layout.addWidget(help_label)
-
-        box = QtGui.QGroupBox("Proposal")
-        bl = QtGui.QVBoxLayout(box)
         self.proposal = QtGui.QLabel("move the cursor over the surface")
         self.proposal.setObjectName("StripWeaveProposal")
         self.proposal.setWordWrap(True)
-        bl.addWidget(self.proposal)
-        layout.addWidget(box)
+        self.proposal.setFrameShape(QtGui.QFrame.StyledPanel)
+        layout.addWidget(self.proposal)
 
-        box = QtGui.QGroupBox("Strips")
-        bl = QtGui.QVBoxLayout(box)
-        self.table = QtGui.QTableWidget(0, len(COLUMNS))
-        self.table.setObjectName("StripWeaveStripTable")
-        self.table.setHorizontalHeaderLabels(list(COLUMNS))
-        self.table.verticalHeader().setVisible(False)
-        self.table.setEditTriggers(QtGui.QAbstractItemView.NoEditTriggers)
-        self.table.setSelectionMode(QtGui.QAbstractItemView.NoSelection)
-        self.table.horizontalHeader().setStretchLastSection(True)
-        # never wider than the task view (the combo view is often narrow): scroll instead
-        self.table.setSizePolicy(QtGui.QSizePolicy.Ignored, QtGui.QSizePolicy.Expanding)
-        self.table.setMinimumHeight(120)
-        bl.addWidget(self.table)
-        self.singularities = QtGui.QLabel("")
-        self.singularities.setWordWrap(True)
-        self.singularities.setObjectName("StripWeaveSingularityCounts")
-        self.fold_overs = QtGui.QLabel("")
-        bl.addWidget(self.singularities)
-        bl.addWidget(self.fold_overs)
-        layout.addWidget(box)
+        self.tabs = QtGui.QTabWidget()
+        self.tabs.setObjectName("StripWeaveDesignTabs")
+        self.tabs.setSizePolicy(QtGui.QSizePolicy.Ignored, QtGui.QSizePolicy.Preferred)
+        # Tabs on the side: four names never fit across the narrow combo view (the
+        # bar would scroll and hide some).
+        self.tabs.setTabPosition(QtGui.QTabWidget.West)
+        for name, page in zip(TABS, (self._strip_page(), self._anchor_box(), self._layout_page(),
+                                     self._options_page())):
+            self.tabs.addTab(page, name)
+        bar = self.tabs.tabBar()
+        bar.setUsesScrollButtons(False)
+        bar.setElideMode(QtCore.Qt.ElideNone)
+        self.tabs.setMinimumHeight(bar.sizeHint().height() + 8)   # every tab in sight
+        layout.addWidget(self.tabs)
 
         self.status = QtGui.QLabel("")
         self.status.setObjectName("StripWeaveDesignStatus")
@@ -71,6 +80,135 @@ class DesignPanel:
         layout.addWidget(self.status)
         layout.addStretch(1)
         self.remove_buttons = []
+        self.anchors = []             # per strip its anchors, (x,y,z[,dx,dy,dz]) lists
+        self._show_anchors()
+
+    def _strip_page(self):
+        page = QtGui.QWidget()
+        bl = QtGui.QVBoxLayout(page)
+        self.table = QtGui.QTableWidget(0, len(COLUMNS))
+        self.table.setObjectName("StripWeaveStripTable")
+        self.table.setHorizontalHeaderLabels(list(COLUMNS))
+        self.table.verticalHeader().setVisible(False)
+        self.table.setEditTriggers(QtGui.QAbstractItemView.NoEditTriggers)
+        self.table.setSelectionMode(QtGui.QAbstractItemView.SingleSelection)
+        self.table.setSelectionBehavior(QtGui.QAbstractItemView.SelectRows)
+        self.table.setToolTip("Select a strip to edit its anchors (Anchors tab)")
+        self.table.itemSelectionChanged.connect(self._show_anchors)
+        self.table.horizontalHeader().setStretchLastSection(True)
+        _compact(self.table, 160).setMinimumHeight(110)
+        bl.addWidget(self.table)
+        self.singularities = QtGui.QLabel("")
+        self.singularities.setWordWrap(True)
+        self.singularities.setObjectName("StripWeaveSingularityCounts")
+        self.fold_overs = QtGui.QLabel("")
+        bl.addWidget(self.singularities)
+        bl.addWidget(self.fold_overs)
+        return page
+
+    def _layout_page(self):
+        page = QtGui.QWidget()
+        bl = QtGui.QVBoxLayout(page)
+        self.region_counts = QtGui.QLabel("regions: not computed yet")
+        self.region_counts.setObjectName("StripWeaveRegionCounts")
+        self.region_counts.setWordWrap(True)
+        bl.addWidget(self.region_counts)
+        self.region_list = _compact(QtGui.QListWidget(), 160)
+        self.region_list.setObjectName("StripWeaveRegionList")
+        self.region_list.setWordWrap(True)
+        bl.addWidget(self.region_list)
+        return page
+
+    def _options_page(self):
+        page = QtGui.QWidget()
+        fl = QtGui.QFormLayout(page)
+        fl.setRowWrapPolicy(QtGui.QFormLayout.WrapAllRows)   # labels above: the view is narrow
+        self.band = QtGui.QDoubleSpinBox()
+        self.band.setObjectName("StripWeaveCompatibilityBand")
+        self.band.setDecimals(3)
+        self.band.setRange(0.0, 1e6)
+        self.band.setSpecialValueText(WHOLE_STRIP)
+        self.band.setKeyboardTracking(False)   # applied on Enter, an arrow or leaving the field
+        self.band.setToolTip("How far from its loop (model units) a strip refuses parallel loops; "
+                             "'whole strip' (0) is the paper's. A finite band allows denser layouts.")
+        self.band.valueChanged.connect(self._band_changed)
+        fl.addRow("Compatibility band", self.band)
+        self.boundary = QtGui.QComboBox()
+        self.boundary.setObjectName("StripWeaveBoundaryMode")
+        self.boundary.addItems(list(BOUNDARY_MODES))
+        self.boundary.setToolTip("Dual curves at open boundaries: aligned (run along them) or trimmed (end on them)")
+        self.boundary.currentIndexChanged.connect(self._boundary_changed)
+        fl.addRow("Boundary", self.boundary)
+        return page
+
+    def _band_changed(self, value):
+        self.tool.set_options(compatibility_band=float(value) if value > 0 else None)
+
+    def _boundary_changed(self, index):
+        if 0 <= index < len(BOUNDARY_MODES):
+            self.tool.set_options(boundary=BOUNDARY_MODES[index])
+
+    def _anchor_box(self):
+        """The selected strip's anchors (select a strip row above)."""
+        box = QtGui.QWidget()
+        box.setObjectName("StripWeaveAnchorBox")
+        bl = QtGui.QVBoxLayout(box)
+        self.anchor_list = QtGui.QListWidget()
+        self.anchor_list.setObjectName("StripWeaveAnchorList")
+        _compact(self.anchor_list, 120)
+        self.anchor_list.setWordWrap(True)
+        self.anchor_list.setHorizontalScrollBarPolicy(QtCore.Qt.ScrollBarAlwaysOff)
+        self.anchor_title = QtGui.QLabel("")
+        self.anchor_title.setWordWrap(True)
+        bl.addWidget(self.anchor_title)
+        bl.addWidget(self.anchor_list)
+        self.anchor_list.itemSelectionChanged.connect(self._enable_anchor_buttons)
+        row = QtGui.QVBoxLayout()
+        self.delete_anchor = QtGui.QPushButton("Delete anchor")
+        self.delete_anchor.setObjectName("StripWeaveDeleteAnchor")
+        self.delete_anchor.setToolTip("Delete the selected anchor; the strip is derived again (undoable)")
+        self.delete_anchor.clicked.connect(lambda: self._anchor_action(self.tool.delete_anchor))
+        self.positional = QtGui.QPushButton("Make positional")
+        self.positional.setObjectName("StripWeaveMakePositional")
+        self.positional.setToolTip("Drop the selected anchor's direction (undoable)")
+        self.positional.clicked.connect(lambda: self._anchor_action(self.tool.make_positional))
+        row.addWidget(self.delete_anchor)
+        row.addWidget(self.positional)
+        bl.addLayout(row)
+        return box
+
+    def selected_strip(self):
+        rows = {i.row() for i in self.table.selectedIndexes()}
+        return min(rows) if rows else None
+
+    def selected_anchor(self):
+        row = self.anchor_list.currentRow()
+        return row if row >= 0 and self.anchor_list.currentItem() is not None \
+            and self.anchor_list.currentItem().isSelected() else None
+
+    def _show_anchors(self):
+        strip = self.selected_strip()
+        anchors = self.anchors[strip] if strip is not None and strip < len(self.anchors) else []
+        self.anchor_title.setText("select a strip in Strips" if strip is None else "Strip {}:".format(strip + 1))
+        self.anchor_list.clear()
+        for k, a in enumerate(anchors):
+            where = ", ".join(_fmt(c) for c in a[:3])
+            kind = "directional ({})".format(", ".join("{:.2f}".format(c) for c in a[3:])) \
+                if len(a) == 6 else "positional"
+            self.anchor_list.addItem("{}: ({}) {}".format(k + 1, where, kind))
+        self._enable_anchor_buttons()
+
+    def _enable_anchor_buttons(self):
+        strip, anchor = self.selected_strip(), self.selected_anchor()
+        anchors = self.anchors[strip] if strip is not None and strip < len(self.anchors) else []
+        chosen = anchor is not None and anchor < len(anchors)
+        self.delete_anchor.setEnabled(chosen and len(anchors) > 1)   # the last one: Remove the strip
+        self.positional.setEnabled(chosen and len(anchors[anchor]) == 6)
+
+    def _anchor_action(self, action):
+        strip, anchor = self.selected_strip(), self.selected_anchor()
+        if strip is not None and anchor is not None:
+            action(strip, anchor)
 
     # -- Gui.Control protocol -----------------------------------------------------------
     def getStandardButtons(self):
@@ -92,14 +230,28 @@ class DesignPanel:
         self.status.setText(text)
 
     def set_busy(self, busy):
-        """No removals while a strip is being added (it is based on the
-        current design)."""
+        """No removals or anchor edits while a strip is being edited (it is
+        based on the current design)."""
         for b in self.remove_buttons:
             b.setEnabled(not busy)
+        if busy:
+            self.delete_anchor.setEnabled(False)
+            self.positional.setEnabled(False)
+        else:
+            self._enable_anchor_buttons()
 
-    def refresh(self, summary):
-        """Fill the strip table and counts from a Design ``Summary`` dict."""
+    def refresh(self, summary, anchors=None):
+        """Fill the strip table and counts from a Design ``Summary`` dict,
+        and the anchor list from ``anchors`` (per strip its anchor lists);
+        the selected strip stays selected."""
+        selected = self.selected_strip()
+        self.anchors = list(anchors or [])
         strips = summary.get("strips", [])
+        self.table.blockSignals(True)
+        self.table.clearSelection()
+        # Emptied first: a Remove button replaced in place stayed on screen
+        # over column 0 (a click on a row's number removed the strip).
+        self.table.setRowCount(0)
         self.table.setRowCount(len(strips))
         self.remove_buttons = []
         for i, s in enumerate(strips):
@@ -141,6 +293,55 @@ class DesignPanel:
                 button.clicked.connect(lambda checked=False, index=i: self.tool.remove(index))
                 self.table.setCellWidget(i, REMOVE_COLUMN, button)
                 self.remove_buttons.append(button)
+        if selected is not None and selected < self.table.rowCount():
+            self.table.selectRow(selected)
+        self.table.blockSignals(False)
+        self._show_anchors()
+
+    def set_scale(self, diagonal):
+        """The band's precision from the model's size (its bounding-box
+        diagonal): 1e-4 of it, steps of 1e-2 of it (a part in metres and one
+        in millimetres both get four digits)."""
+        import math
+        if not diagonal > 0:
+            return
+        self.band.blockSignals(True)
+        self.band.setDecimals(max(0, -int(math.floor(math.log10(diagonal * 1e-4)))))
+        self.band.setSingleStep(10.0 ** math.floor(math.log10(diagonal * 1e-2)))
+        self.band.blockSignals(False)
+
+    def set_options(self, options):
+        """Show the design's options (without applying them again)."""
+        band = options.get("compatibility_band")
+        boundary = options.get("boundary", "aligned")
+        for w in (self.band, self.boundary):
+            w.blockSignals(True)
+        self.band.setValue(float(band) if band else 0.0)
+        if boundary in BOUNDARY_MODES:
+            self.boundary.setCurrentIndex(BOUNDARY_MODES.index(boundary))
+        for w in (self.band, self.boundary):
+            w.blockSignals(False)
+
+    def set_regions(self, regions, error=None):
+        """Fill the Layout tab from region_list.compute's dict (None: stale
+        or failed, with ``error``)."""
+        self.region_list.clear()
+        if regions is None:
+            self.region_counts.setText("regions: {}".format(error or "being computed ..."))
+            return
+        counts = regions["counts"]
+        self.region_counts.setText("Regions  red {}   crease {}   orange {}   yellow {}   ok {}\n{}".format(
+            counts.get("red", 0), counts.get("crease", 0), counts.get("orange", 0), counts.get("yellow", 0),
+            counts.get("none", 0), "layout: " + ("clean" if regions["clean"] else "valid, {} defect{}".format(
+                len(regions["defects"]), "" if len(regions["defects"]) == 1 else "s")
+                if regions["valid"] else "invalid (red regions)")))
+        tints = {"red": "#c92a2a", "crease": "#862e9c", "orange": "#d9480f", "yellow": "#e0a800"}
+        for r in regions["regions"]:
+            item = QtGui.QListWidgetItem(r["text"])
+            item.setForeground(QtGui.QBrush(QtGui.QColor(tints.get(r["colour"], "#000000"))))
+            self.region_list.addItem(item)
+        for line in regions["defects"]:
+            self.region_list.addItem("defect: " + line)
 
     def row_count(self):
         return self.table.rowCount()

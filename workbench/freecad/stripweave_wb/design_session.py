@@ -170,14 +170,21 @@ class SessionCache:
             if self._querying and self.session is not None:
                 self.session.loop_session.native.cancel()
 
-    def query(self, fn):
+    def query(self, fn, masked=True):
         """Run ``fn(loop_session)`` as an interruptible query on the loop
-        engine under the design's compatibility mask (§6.2); the caller holds
-        no lock.  Returns (value, revision)."""
+        engine under the design's compatibility mask (§6.2), or under none
+        (``masked`` False: the mask of every strip would refuse a grabbed
+        strip's own moved loop, which re-routing searches under the mask of
+        the strips before it only); the caller holds no lock.  Returns
+        (value, revision)."""
         with self.lock:
             if self.session is None:
                 raise RuntimeError("the design is not derived yet")
-            self._apply_mask()
+            if masked:
+                self._apply_mask()
+            else:
+                self.session.loop_session.native.clear_disabled()
+                self._mask_key = None
             with self._flag_lock:
                 self._querying = True
             try:
@@ -186,7 +193,7 @@ class SessionCache:
                 with self._flag_lock:
                     self._querying = False
 
-    def proposals(self, point, alternatives=1):
+    def proposals(self, point, alternatives=1, masked=True):
         """What the design tool shows through ``point`` (or through the
         directional anchor ``point`` = (x, y, z, dx, dy, dz) of a drag, or
         through a list of anchors: Shift+click's, each proposal then
@@ -195,7 +202,9 @@ class SessionCache:
         that many ranked alternatives.  Each is a dict as
         ``LoopSession.describe`` plus ``anchors``: directional anchors on the
         loop (native ``loop_anchor``, the one nearest ``point`` first) from
-        which :meth:`add_shown` tries to derive it again.  Interruptible."""
+        which :meth:`add_shown` tries to derive it again.  Interruptible.
+        ``masked`` False: under no compatibility mask (a grabbed strip's
+        moved loop, whose own strip must not refuse it; see :meth:`query`)."""
         native = _native()
         several = len(point) > 0 and isinstance(point[0], (list, tuple))
         anchors = [[float(c) for c in a][:6] for a in (point if several else [point])]
@@ -218,7 +227,7 @@ class SessionCache:
                 d["anchors"] = [list(native.loop_anchor(ls.native, loop, list(p))) for p in samples]
                 out.append(d)
             return out
-        return self.query(run)
+        return self.query(run, masked)
 
     def reproducing_anchors(self, anchors, shown):
         """The first of ``anchor_sets(anchors)`` from which the design's own
@@ -329,6 +338,20 @@ class SessionCache:
             self._require()
             self._mask_key = None
             self.session.add_strip(anchors)
+            self.applied_key = design_key(self.session.design, self._features)
+            return self.session.design.to_dict(), self._snapshot(None)
+
+    def edit_strip(self, index, anchors):
+        """Replace strip ``index``'s anchors and re-derive from it (strip
+        ``index``'s loop under the mask of the strips before it, §6.2; the
+        later ones again under theirs).  Reverted on InputError, which
+        propagates.  Returns (design dict, snapshot)."""
+        with self.lock:
+            self._require()
+            if not 0 <= index < len(self.session.design.strips):
+                raise IndexError("the design has no strip {}".format(index + 1))
+            self._mask_key = None
+            self.session.edit_strip(index, anchors)
             self.applied_key = design_key(self.session.design, self._features)
             return self.session.design.to_dict(), self._snapshot(None)
 

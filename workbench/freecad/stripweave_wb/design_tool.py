@@ -15,15 +15,28 @@
   click: while it runs, FreeCAD's preselection and selection are off in its
   view (``SelectionSuspended``), and the press and the release of a click
   on the model are both marked handled, so neither selects the part;
+* grab-and-drag (§4.1's route-planner metaphor): a press on a committed
+  strip's loop (within GRAB_TOLERANCE_PX of it; the cursor is an open hand
+  there) grabs that loop; dragging
+  shows the loop through the cursor along the grabbed loop's direction
+  there, and the release re-routes the strip: its anchors are replaced by
+  that one directional anchor and the design re-derives (one undoable
+  transaction "Re-route strip"; a refused re-route changes nothing);
 * Shift+click collects anchors for one strip, the preview
   shows the loop through them (and the cursor), Enter adds it, Esc drops
-  them;
+  them; with anchors pending, a drag grabs that current loop (§4.1): it
+  follows the cursor, and the release adds an anchor there;
 * a drag from a point on the model (more than CLICK_TOLERANCE_PX) sets a
   directional anchor there along the drag: the loop through the point in
   that direction follows the drag live, and the release adds it (as a click
   adds the loop shown);
 * the task panel lists the strips with Remove buttons, the singularities and
-  fold-overs; Close or Esc ends the tool.
+  fold-overs; selecting a strip lists its anchors, which can be deleted or
+  made positional (each an undoable transaction, the design re-derives);
+  it lists the regions by colour with where they are and the layout's
+  defects (computed on the worker after every change), and sets the
+  compatibility band and the boundary mode, which the running session
+  takes (re-derived in the background); Close or Esc ends the tool.
 
 Queries run on a :class:`QueryWorker` thread; a newer query interrupts an
 older one, and results computed for an older cursor position or an older
@@ -42,6 +55,7 @@ Scriptable (tests, macros)::
     tool.drag_to(point, direction); tool.add_dragged()    # what a drag does
 """
 
+import collections
 import time
 
 import numpy as np
@@ -59,6 +73,9 @@ from .query_worker import QueryWorker
 POLL_MS = 30
 ALTERNATIVES = 6
 CLICK_TOLERANCE_PX = 4
+# A press this close to a committed loop (screen pixels) grabs it: about the
+# width of the drawn loop line and its pick halo.
+GRAB_TOLERANCE_PX = 6
 
 _active = None
 
@@ -160,8 +177,15 @@ class DesignTool:
         self.want_index = 0           # asked for by the wheel, shown once computed
         self.proposal_serial = 0      # newest proposal query
         self.alternatives_requested = False
-        self.add_serial = None        # strip addition in flight
-        self.add_base = None          # DesignJson the addition is based on
+        self.add_serial = None        # strip edit (addition, re-route, anchor edit) in flight
+        self.add_base = None          # DesignJson the edit is based on
+        self.edit_name = None         # the transaction name of a strip edit in flight
+        self._grab = None             # (strip index, its loop's points) while a loop is grabbed
+        self._grab_current = False    # the loop of the strip being made is grabbed
+        self._asked = (None, 0.0)     # (serial, time) of the newest proposal query
+        # Milliseconds from a query (a hover, a drag step, a browse) to its preview on
+        # screen, the newest last (a figure for bench notes and tests).
+        self.latencies_ms = collections.deque(maxlen=1000)
         self.last_error = None
         self._seen_json = obj.DesignJson
         self._press = None
@@ -194,7 +218,7 @@ class DesignTool:
             w.installEventFilter(self._filter)
             self._filtered.append(w)
         Gui.Control.showDialog(self.panel)
-        self.panel.refresh(obj.Proxy.summary(obj))
+        self._refresh_panel(obj)
         self.timer.start()
         self._ensure_derived(obj)
 
@@ -219,6 +243,7 @@ class DesignTool:
                 w.removeEventFilter(self._filter)
             except RuntimeError:
                 pass
+        self._set_cursor(None)
         self._filtered = []
         if self._selection is not None:
             self._selection.restore()
@@ -252,9 +277,11 @@ class DesignTool:
         if self.worker is None:
             self.worker = QueryWorker(self.cache)
         obj = self.obj()
-        self.panel.refresh(obj.Proxy.summary(obj))
+        self.panel.set_scale(self._scale())
+        self._refresh_panel(obj)
         if not self.last_error:
             self.panel.set_status(obj.Status)
+        self._request_regions()
         if self.point is not None:
             self._propose()
 
@@ -265,7 +292,12 @@ class DesignTool:
         if self._press is not None and (abs(x - self._press[0]) > CLICK_TOLERANCE_PX
                                         or abs(y - self._press[1]) > CLICK_TOLERANCE_PX):
             event_cb.setHandled()
-            self.drag_screen(x, y)
+            if self._grab is not None:
+                self.grab_screen(x, y)
+            elif self._grab_current:
+                self.hover_screen(x, y)   # the loop through the pending anchors and the cursor
+            else:
+                self.drag_screen(x, y)
             return
         self.hover_screen(x, y)
 
@@ -291,7 +323,7 @@ class DesignTool:
         self.alternatives_requested = False
         self.proposals = []
         if self.worker is not None and not self.closed:
-            self.proposal_serial = self.worker.propose("best", self.drag_anchor)
+            self._ask("best", self.drag_anchor)
         return self.drag_anchor
 
     def _on_button(self, event_cb):
@@ -309,15 +341,33 @@ class DesignTool:
             self._press_point = self.pick(x, y)
             self._press = (x, y) if self._press_point is not None else None
             self.drag_anchor = None
+            self._grab = None
+            self._grab_current = False
             if self._press is not None:
                 event_cb.setHandled()
+                if self.pending:   # the strip being made: its loop passes the cursor, a drag moves it
+                    self._grab_current = not (ev.wasShiftDown() or bool(
+                        QtGui.QApplication.keyboardModifiers() & QtCore.Qt.ShiftModifier))
+                else:
+                    self._grab = self.grabbed_strip(self._press_point)
+                if self._grab is not None or self._grab_current:
+                    self._set_cursor(QtCore.Qt.ClosedHandCursor)
         elif ev.getState() == coin.SoButtonEvent.UP and self._press is not None:
             px, py = self._press
             self._press = None
             event_cb.setHandled()
             clicked = abs(x - px) <= CLICK_TOLERANCE_PX and abs(y - py) <= CLICK_TOLERANCE_PX
             shift = ev.wasShiftDown() or bool(QtGui.QApplication.keyboardModifiers() & QtCore.Qt.ShiftModifier)
-            if shift:
+            grab, self._grab = self._grab, None
+            grab_current, self._grab_current = self._grab_current, False
+            self._set_cursor(None)
+            if grab is not None and not clicked:
+                self.reroute_screen(grab, x, y)
+            elif grab_current and not clicked:
+                anchor = self.pick(x, y) or self.point
+                if anchor is not None:
+                    self.add_anchor(anchor)
+            elif shift:
                 anchor = self.pick(x, y) if clicked else self.drag_anchor
                 if anchor is not None:
                     self.add_anchor(anchor)
@@ -325,6 +375,147 @@ class DesignTool:
                 self.click_screen(x, y)
             elif self.drag_anchor is not None:
                 self.add_dragged()
+
+    # -- grab-and-drag ---------------------------------------------------------------------
+    def grabbed_strip(self, point):
+        """(index, loop points) of the committed strip whose loop passes
+        within GRAB_TOLERANCE_PX of surface point ``point``, the nearest;
+        None if none does."""
+        obj = self.obj()
+        d = obj.Proxy.derived(obj) if obj is not None else None
+        if d is None or not d.strips:
+            return None
+        reach = GRAB_TOLERANCE_PX * self._model_per_pixel(point)
+        gaps = [_polyline_gap(s["points"], point) for s in d.strips]
+        best = int(np.argmin(gaps))
+        return (best, np.asarray(d.strips[best]["points"], dtype=float)) if gaps[best] <= reach else None
+
+    def _model_per_pixel(self, point):
+        """Model units per screen pixel at ``point`` (across the view)."""
+        view_dir = np.asarray(tuple(self.view.getViewDirection()), dtype=float)
+        across = np.cross(view_dir, (0.0, 0.0, 1.0))
+        if np.linalg.norm(across) < 1e-6:
+            across = np.cross(view_dir, (1.0, 0.0, 0.0))
+        across /= np.linalg.norm(across)
+        step = 1e-3 * self._scale()
+        a = self.view.getPointOnScreen(App.Vector(*point))
+        b = self.view.getPointOnScreen(App.Vector(*(np.asarray(point) + step * across)))
+        pixels = float(np.hypot(b[0] - a[0], b[1] - a[1]))
+        return step / pixels if pixels > 0 else step
+
+    def grab_anchor(self, grab, point):
+        """The directional anchor a grabbed loop moved to ``point`` is
+        re-routed through: the point, with the grabbed loop's tangent where
+        it passes nearest (the loop keeps its course; §4.1)."""
+        pts = grab[1]
+        i = int(np.argmin(np.linalg.norm(pts - np.asarray(point), axis=1)))
+        tangent = pts[min(i + 2, len(pts) - 1)] - pts[max(i - 2, 0)]
+        norm = float(np.linalg.norm(tangent))
+        if norm <= 0.0:   # a degenerate stretch of loop: the point alone
+            return tuple(float(c) for c in point)
+        return tuple(float(c) for c in point) + tuple(float(c) for c in tangent / norm)
+
+    def grab_screen(self, x, y):
+        """The grabbed loop dragged to screen position (x, y): shows the loop
+        through the point there (not under the compatibility mask: the
+        strip's own would refuse it; the release derives it under the mask
+        of the strips before it).  Returns the anchor or None."""
+        point = self.pick(x, y)
+        if point is None or self._grab is None or self.closed:
+            return None
+        return self.grab_to(point)
+
+    def grab_to(self, point):
+        self.point = tuple(float(c) for c in point)
+        self.drag_anchor = self.grab_anchor(self._grab, self.point)
+        self.index = self.want_index = 0
+        self.alternatives_requested = False
+        self.proposals = []
+        if self.worker is not None and not self.closed:
+            self._ask("best", self.drag_anchor, masked=False)
+        return self.drag_anchor
+
+    def reroute_screen(self, grab, x, y):
+        """Release of a grab at (x, y): re-route the strip through the point there."""
+        point = self.pick(x, y)
+        anchor = self.grab_anchor(grab, point) if point is not None else self.drag_anchor
+        self.drag_anchor = None
+        if anchor is None:
+            return False
+        return self.edit_strip(grab[0], [anchor], "Re-route strip")
+
+    def edit_strip(self, index, anchors, name):
+        """Replace strip ``index``'s anchors (off the GUI thread); the
+        document changes in one transaction ``name`` if the design derives."""
+        obj = self.obj()
+        if self.worker is None or obj is None or self.add_serial is not None:
+            return False
+        self.add_base = obj.DesignJson
+        self.edit_name = name
+        self.add_serial = self.worker.edit_strip(index, anchors)
+        self.panel.set_busy(True)
+        self.panel.set_status("{} {} ...".format(name.lower(), index + 1))
+        return True
+
+    # -- anchors of a committed strip (the panel's anchor list) -------------------------------
+    def strip_anchors(self, index):
+        """Strip ``index``'s anchors as (x,y,z[,dx,dy,dz]) lists."""
+        obj = self.obj()
+        lists = obj.Proxy.design(obj).anchor_lists() if obj is not None else []
+        return lists[index] if 0 <= index < len(lists) else []
+
+    def delete_anchor(self, index, anchor):
+        """Delete anchor ``anchor`` of strip ``index`` (its last anchor stays:
+        removing the strip is Remove's)."""
+        anchors = self.strip_anchors(index)
+        if len(anchors) < 2 or not 0 <= anchor < len(anchors):
+            return False
+        return self.edit_strip(index, anchors[:anchor] + anchors[anchor + 1:], "Delete anchor")
+
+    def make_positional(self, index, anchor):
+        """Drop the direction of anchor ``anchor`` of strip ``index``."""
+        anchors = self.strip_anchors(index)
+        if not 0 <= anchor < len(anchors) or len(anchors[anchor]) != 6:
+            return False
+        anchors[anchor] = anchors[anchor][:3]
+        return self.edit_strip(index, anchors, "Make anchor positional")
+
+    def _refresh_panel(self, obj):
+        try:
+            design = obj.Proxy.design(obj)
+        except Exception:
+            design = None
+        self.panel.refresh(obj.Proxy.summary(obj), design.anchor_lists() if design is not None else [])
+        if design is not None:
+            self.panel.set_options(design.options)
+
+    def _request_regions(self):
+        if self.worker is not None and not self.closed:
+            self.panel.set_regions(None)
+            self.worker.regions()
+
+    def set_options(self, **options):
+        """The panel's Options: change the design's options (one undoable
+        transaction); the session takes them in the background (a new
+        DesignState; a new loop engine for the boundary mode)."""
+        obj = self.obj()
+        if obj is None or self.add_serial is not None:
+            self._refresh_panel(obj) if obj is not None else None
+            return False
+        try:
+            changed = design_model.set_options(obj, **options)
+        except Exception as exc:
+            self.panel.set_status("option not set: {}".format(exc), True)
+            self._refresh_panel(obj)
+            return False
+        if changed:
+            self._seen_json = obj.DesignJson
+            self._refresh_panel(obj)
+            self.proposals = []
+            self.preview.clear()
+            self.panel.set_status("deriving the design with the new options ...")
+            derive_async.request(obj, callback=self._on_derived, then_recompute=True)
+        return changed
 
     def _on_key(self, event_cb):
         ev = event_cb.getEvent()
@@ -356,9 +547,27 @@ class DesignTool:
         if self.closed:
             return None
         point = self.pick(x, y)
+        # anchors pending: the current loop passes the cursor, a drag moves it
+        self._set_cursor(QtCore.Qt.OpenHandCursor if point is not None and (
+            self.pending or self.grabbed_strip(point) is not None) else None)
         if point is not None:
             self.hover_point(point)
         return point
+
+    def _set_cursor(self, shape):
+        """An open hand over a committed loop (a press grabs it), a closed
+        hand while one is grabbed; FreeCAD's cursor elsewhere."""
+        if shape == getattr(self, "_cursor", None):
+            return
+        self._cursor = shape
+        for w in self._filtered:
+            try:
+                if shape is None:
+                    w.unsetCursor()
+                else:
+                    w.setCursor(QtGui.QCursor(shape))
+            except RuntimeError:   # the view was closed
+                pass
 
     def hover_point(self, point):
         """Propose the best loop through ``point`` (a surface point)."""
@@ -376,7 +585,7 @@ class DesignTool:
         self.want_index = max(0, min(ALTERNATIVES - 1, self.want_index + int(step)))
         if not self.alternatives_requested:
             self.alternatives_requested = True
-            self.proposal_serial = self.worker.propose("alternatives", self.point, ALTERNATIVES)
+            self._ask("alternatives", self.point, ALTERNATIVES)
             self.panel.set_proposal("searching alternatives ...")
         else:
             self._show()
@@ -501,16 +710,21 @@ class DesignTool:
             self._seen_json = obj.DesignJson
             self.proposals = []
             self.preview.clear()
-            self.panel.refresh(obj.Proxy.summary(obj))
+            self._refresh_panel(obj)
             if obj.Proxy.derived(obj) is None:
                 self._ensure_derived(obj)
-            elif self.point is not None:
-                self._propose()
+            else:
+                self._request_regions()
+                if self.point is not None:
+                    self._propose()
         if self.worker is None:
             return
         for r in self.worker.take_results():
-            if r.kind == "add":
-                self._on_added(obj, r)
+            if r.kind in ("add", "edit"):
+                self._on_edited(obj, r)
+            elif r.kind == "regions":
+                if r.error or r.revision == self.cache.revision:
+                    self.panel.set_regions(None if r.error else r.value, r.error)
             elif r.cancelled or r.serial != self.proposal_serial:
                 continue  # an older cursor position
             elif r.error:
@@ -523,32 +737,38 @@ class DesignTool:
                 self.proposals = list(r.value)
                 self._show()
 
-    def _on_added(self, obj, r):
+    def _on_edited(self, obj, r):
         self.add_serial = None
         self.panel.set_busy(False)
+        name = "Add strip" if r.kind == "add" else self.edit_name
         if r.error:
             self.last_error = r.error
-            self.panel.set_status("strip not added: {}".format(r.error), True)
-            messages.warning("strip not added: {}".format(r.error))
+            what = "strip not added" if r.kind == "add" else "{}: nothing changed".format(name)
+            self.panel.set_status("{}: {}".format(what, r.error), True)
+            messages.warning("{}: {}".format(what, r.error))
+            if r.kind == "edit":
+                self._ensure_derived(obj)   # the session reverted the edit; the view is current
             return
-        if obj.DesignJson != self.add_base:  # the design changed meanwhile: this addition is stale
-            self.panel.set_status("the design changed while the strip was added; click again", True)
+        if obj.DesignJson != self.add_base:  # the design changed meanwhile: this edit is stale
+            self.panel.set_status("the design changed while the strip was edited; try again", True)
             self._ensure_derived(obj)
             return
         self.last_error = None
-        design_model.write_design(obj, r.value, "Add strip")
+        design_model.write_design(obj, r.value, name)
         self._after_edit(obj)
 
     def _after_edit(self, obj):
         self._seen_json = obj.DesignJson
-        self.panel.refresh(obj.Proxy.summary(obj))
+        self._refresh_panel(obj)
         if not self.last_error:
             self.panel.set_status(obj.Status, obj.Status.startswith("error"))
         self.proposals = []
         self.preview.clear()
         if obj.Proxy.derived(obj) is None:
             self._ensure_derived(obj)
-        elif self.point is not None:
+            return
+        self._request_regions()
+        if self.point is not None:
             self.hover_point(self.point)  # the next proposal, under the new mask: the best again
 
     def _propose(self):
@@ -561,13 +781,22 @@ class DesignTool:
             extra = [] if tuple(self.pending[-1][:3]) == tuple(where[:3]) else [list(where)]
             where = tuple(tuple(a) for a in self.pending + extra)
         if self.alternatives_requested:
-            self.proposal_serial = self.worker.propose("alternatives", where, ALTERNATIVES)
+            self._ask("alternatives", where, ALTERNATIVES)
         else:
-            self.proposal_serial = self.worker.propose("best", where)
+            self._ask("best", where, masked=self._grab is None)
+
+    def _ask(self, kind, where, alternatives=1, masked=True):
+        """Queue a proposal query; the newest is the one shown."""
+        self.proposal_serial = self.worker.propose(kind, where, alternatives, masked)
+        self._asked = (self.proposal_serial, time.monotonic())
 
     def _show(self):
         if not self.proposals:
             return
+        serial, asked = self._asked
+        if serial == self.proposal_serial:   # first shown for this query: its latency on screen
+            self.latencies_ms.append(1000.0 * (time.monotonic() - asked))
+            self._asked = (None, 0.0)
         self.index = min(self.want_index, len(self.proposals) - 1)
         loop = self.proposals[self.index]
         points, anchor = self._lifted(loop["points"], self.point)
@@ -590,10 +819,13 @@ class DesignTool:
     def _near(self, point):
         if self.point is None:
             return False
+        return float(np.linalg.norm(np.subtract(point, self.point))) <= 0.02 * self._scale()
+
+    def _scale(self):
+        """The solver mesh's bounding-box diagonal (1 before it is derived)."""
         obj = self.obj()
         d = obj.Proxy.derived(obj) if obj is not None else None
-        scale = float(np.linalg.norm(np.ptp(d.vertices, axis=0))) if d is not None and len(d.vertices) else 1.0
-        return float(np.linalg.norm(np.subtract(point, self.point))) <= 0.02 * scale
+        return float(np.linalg.norm(np.ptp(d.vertices, axis=0))) if d is not None and len(d.vertices) else 1.0
 
     # -- for tests and macros --------------------------------------------------------------
     def preview_point_count(self):
@@ -611,6 +843,19 @@ class DesignTool:
                 return True
             time.sleep(0.01)
         return False
+
+
+def _polyline_gap(points, point):
+    """Distance from ``point`` to the polyline ``points`` ((k, 3))."""
+    pts = np.asarray(points, dtype=float).reshape(-1, 3)
+    p = np.asarray(point, dtype=float)
+    if len(pts) == 1:
+        return float(np.linalg.norm(pts[0] - p))
+    a, b = pts[:-1], pts[1:]
+    ab = b - a
+    length2 = np.maximum((ab * ab).sum(axis=1), 1e-300)
+    t = np.clip(((p - a) * ab).sum(axis=1) / length2, 0.0, 1.0)
+    return float(np.linalg.norm(a + t[:, None] * ab - p, axis=1).min())
 
 
 class SelectionSuspended:
