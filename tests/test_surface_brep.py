@@ -250,3 +250,38 @@ def test_faces_touching_without_a_shared_edge_come_apart():
     # A first face with the edge on its border keeps it; a single interior use is no fin.
     _, _, _, none = native.part_touching_faces(vertices, np.array(first, np.int32), [0] * 4)
     assert none == 0
+
+
+def _fan(loop):
+    return [(loop[0], loop[i + 1], loop[i]) for i in range(1, len(loop) - 1)]
+
+
+def test_a_gap_between_two_polylines_of_one_curve_is_zipped_not_fanned():
+    """A gap of the welded tessellation where one curve is discretized twice (bug32596_abc_0_13:
+    a face BRepMesh could not mesh, and two faces' polylines of one arc): the two sides of the
+    loop run along the same arc. The fill runs against the loop, closes it with n - 2
+    triangles, and each of its diagonals joins the two sides. A fan from one end joined that
+    end to vertices of its own side, where the neighbours' triangles can already have an edge
+    (three triangles on it: refused as non-manifold)."""
+    from stripweave._native import native
+    arc = lambda t: (math.cos(t), math.sin(t), 0.0)
+    side_a = [arc(t) for t in np.linspace(0, 1, 6)]                       # one face's polyline
+    side_b = [arc(t) for t in np.linspace(0, 1, 9)[1:-1]]                 # the other's, finer
+    vertices = np.array(side_a + side_b[::-1], float)
+    loop = list(range(len(vertices)))                                     # along A, back along B
+    a_ids, b_ids = set(range(6)), set(range(6, len(vertices)))
+    fill = native.zipper_fill(loop, vertices)
+    assert len(fill) == len(loop) - 2
+    directed = [(t[i], t[(i + 1) % 3]) for t in fill for i in range(3)]
+    for i in range(len(loop)):                                           # each loop edge once, reversed
+        u, v = loop[i], loop[(i + 1) % len(loop)]
+        assert directed.count((v, u)) == 1 and directed.count((u, v)) == 0
+    loop_edges = {frozenset((loop[i], loop[(i + 1) % len(loop)])) for i in range(len(loop))}
+    diagonals = {frozenset(e) for e in directed} - loop_edges
+    assert diagonals and all(len(e & a_ids) == 1 and len(e & b_ids) == 1 for e in diagonals)
+    for d in diagonals:                                                   # manifold: two uses, opposite
+        u, v = tuple(d)
+        assert directed.count((u, v)) == 1 and directed.count((v, u)) == 1
+    # The fan the zipper replaced joins vertex 0 to vertices of its own side.
+    fan_diagonals = {frozenset((t[0], t[1])) for t in _fan(loop)} - loop_edges
+    assert any(e <= a_ids for e in fan_diagonals)

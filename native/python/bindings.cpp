@@ -15,6 +15,7 @@
 #include "stripweave/surface/build_surface.h"
 #include "stripweave/surface/creases.h"
 #include "stripweave/surface/split_touching_edges.h"
+#include "stripweave/surface/zipper_fill.h"
 #include "stripweave/surface/surface_report.h"
 
 #include <pybind11/numpy.h>
@@ -266,6 +267,13 @@ PYBIND11_MODULE(_stripweave, m) {
       }, py::arg("vertices"), py::arg("triangles"), py::arg("faces"),
       "split_touching_edges.h on a welded tessellation with a B-rep face id per triangle: "
       "(vertices, triangles, faces, edges split)");
+
+  m.def("zipper_fill", [](const std::vector<Index>& loop, const Array3d& vertices) {
+        const std::vector<Vec3> positions = mesh_from_arrays(vertices, Array3i(std::vector<py::ssize_t>{0, 3})).positions;
+        for (Index v : loop)
+          if (v < 0 || v >= static_cast<Index>(positions.size())) throw InputError("zipper_fill: a loop vertex is out of range");
+        return zipper_fill(loop, positions);
+      }, py::arg("loop"), py::arg("vertices"), "zipper_fill.h: the triangles that close a boundary loop");
 
   m.def("_fp_trap_test", [](const std::string& kind) {
         stripweave_python::NativeCall release;

@@ -14,6 +14,7 @@
 #include "stripweave/surface/sanitize_mesh.h"
 #include "stripweave/surface/split_touching_edges.h"
 #include "stripweave/surface/surface_report.h"
+#include "stripweave/surface/zipper_fill.h"
 
 #include <algorithm>
 #include <cmath>
@@ -194,10 +195,11 @@ void fill_undefined_curvature(Surface& s, std::vector<std::uint8_t> defined) {
     }
 }
 
-// BRepMesh sometimes leaves a tiny hole where a face has a zero-length edge
-// that is not flagged degenerate (fillet ends do this). A boundary loop of
-// the welded mesh that does not run along a free B-rep edge is such a gap:
-// close it with a fan. Returns the number of gaps closed.
+// BRepMesh sometimes leaves a hole where a face has a zero-length edge that
+// is not flagged degenerate (fillet ends do this), or where one curve is
+// discretized twice. A boundary loop of the welded mesh that does not run
+// along a free B-rep edge is such a gap: close it (zipper_fill). Returns the
+// number of gaps closed.
 Index fill_tessellation_gaps(BrepTessellation& tess, const BrepSource& brep) {
   MeshTopology topo = MeshTopology::build(tess.mesh);
   std::set<EdgeKey> on_free_edge;
@@ -209,10 +211,9 @@ Index fill_tessellation_gaps(BrepTessellation& tess, const BrepSource& brep) {
     for (size_t i = 0; i < loop.size() && !free; ++i)
       free = on_free_edge.count(edge_key(loop[i], loop[(i + 1) % loop.size()])) > 0;
     if (free || loop.size() < 3) continue;
-    // The loop runs as its neighbours' triangles do; the fill runs against it.
     const Index face = tess.face_of_triangle[topo.edge_triangles[topo.find_edge(loop[0], loop[1])][0]];
-    for (size_t i = 1; i + 1 < loop.size(); ++i) {
-      tess.mesh.triangles.push_back({loop[0], loop[i + 1], loop[i]});
+    for (const Tri& t : zipper_fill(loop, tess.mesh.positions)) {
+      tess.mesh.triangles.push_back(t);
       tess.face_of_triangle.push_back(face);
     }
     ++filled;
@@ -239,7 +240,7 @@ Surface surface_from_brep(std::shared_ptr<const BrepSource> brep, const SurfaceO
     s.warnings.push_back("split " + std::to_string(fins) +
                          " mesh edge(s) where B-rep faces touch without a shared edge (split_touching_edges.h)");
   if (Index gaps = fill_tessellation_gaps(tess, *brep))
-    s.warnings.push_back("closed " + std::to_string(gaps) + " tiny gap(s) in OpenCASCADE's tessellation");
+    s.warnings.push_back("closed " + std::to_string(gaps) + " gap(s) in OpenCASCADE's tessellation (a missing face or a curve discretized twice)");
   clock.lap("tessellate");
   s.input_triangles = tess.mesh.num_triangles();
   check_kept_size(s.input_triangles, opt);

@@ -63,7 +63,6 @@ Index split_touching_edges(TriangleMesh& mesh, std::vector<Index>& face_of_trian
 Index part_touching_faces(TriangleMesh& mesh, std::vector<Index>& face_of_triangle, std::vector<EdgeKey>& segments,
                           std::vector<Index>& corners) {
   const Index split = split_touching_edges(mesh, face_of_triangle);
-  if (split == 0) return 0;
   const std::vector<std::vector<Index>> copies = split_pinched_vertices(mesh, MeshTopology::build(mesh));
   if (copies.empty()) return split;
   std::unordered_map<Index, const std::vector<Index>*> copies_of;
