@@ -435,3 +435,36 @@ def test_refinement_refused_by_the_band_refines_under_the_papers_mask():
     assert report["design"].options.get("compatibility_band") is None     # the paper's mask kept
     refined = [e for e in report["log"] if e["reason"] == "corner deviation"]
     assert refined and report["stopped"] in ("work budget", "done", "no seed helps", "patch target")
+
+
+def test_a_two_solid_file_weaves_each_solid_clean_and_reports_each(tmp_path):
+    """A STEP file of two solids (a cube and a flat box apart): each solid is its own component
+    and weaves into its six clean box patches; report.json's "components" gives each one's
+    triangles, area, patches and defects, largest first (issue 18: per component)."""
+    path = str(tmp_path / "two.step")
+    Part.makeCompound([Part.makeBox(10, 10, 10), Part.makeBox(10, 6, 4, FreeCAD.Vector(20, 0, 0))]).exportStep(path)
+    report = sw.weave(path, target_triangles=8000, out=str(tmp_path / "out"))
+    assert report["clean"] and report["patches"] == 12
+    saved = json.load(open(tmp_path / "out" / "report.json"))
+    first, second = saved["components"]
+    assert first["area"] == pytest.approx(600.0, rel=1e-3) and second["area"] == pytest.approx(248.0, rel=1e-3)
+    assert first["triangles"] > second["triangles"]
+    for c in (first, second):
+        assert c["patches"] == 6 and c["clean"] and c["defects"] == {} and c["red_regions"] == 0
+
+
+def test_components_name_the_red_one():
+    """A cube beside a torus, the cube's three belts given and no strip more allowed: the
+    layout is invalid (the torus is one uncut region), and the components say which part
+    stays red: the torus, not the cube."""
+    shape = Part.makeCompound([Part.makeBox(10, 10, 10), Part.makeTorus(10, 3, FreeCAD.Vector(40, 5, 5))])
+    belts = Design()
+    for anchor in ((5, 5, 10, 1, 0, 0), (5, 5, 10, 0, 1, 0), (10, 5, 5, 0, 1, 0)):
+        belts.add_strip([anchor])
+    report = sw.weave(sw.from_shape(shape, target_triangles=8000), design=belts, max_strips=3)
+    assert not report["valid"] and report["strips"] == 3
+    cube_c, torus_c = sorted(report["components"], key=lambda c: abs(c["area"] - 600.0))
+    assert cube_c["area"] == pytest.approx(600.0, rel=1e-3)
+    assert cube_c["red_regions"] == 0 and torus_c["red_regions"] == 1
+    assert not torus_c["clean"] and not cube_c["clean"]     # no layout, so no patches anywhere
+    assert "genus 1" in report["why_red"]

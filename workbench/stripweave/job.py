@@ -288,10 +288,15 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
     red_text = None
     if not report["valid"]:
         # Where the layout stays invalid and what to try (issue 18): in report.json and every message.
-        report["red_regions"] = red_regions(ds)
+        every_red = red_regions(ds, limit=None)
+        report["red_regions"] = every_red[:5]
         red_text = why_red(report["red_regions"], report["regions"]["red"], stopped,
                            WeaveOptions(max_strips=max_strips, **{k: v for k, v in weave_options.items()
                                                                    if k == "budget"}))
+    from .components import component_report
+    components = component_report(ds.surface, layout, every_red if not report["valid"] else ())
+    if components:      # an assembly or a multi-component file: each part's own figures
+        report["components"] = components
     if symmetry is not None or design.symmetry is not None:   # asked for (even "none"): say what was used
         report["symmetry"] = symmetry_report(ds, layout, symmetries)
     paths = {}

@@ -792,12 +792,13 @@ def _coverage_pair(w, ds, options, a, candidate, elapsed):
 def red_regions(ds, limit=5):
     """The red regions of the design, largest first (at most `limit`): where each is (its
     centre, model units: where a strip by hand would start), its area, genus and boundary
-    loops (a disc has genus 0 and one boundary loop), for report.json's "red_regions"."""
+    loops (a disc has genus 0 and one boundary loop), for report.json's "red_regions" (limit
+    None: all of them)."""
     a = native.weave_assessment(ds.native, [], 1)
     red = sorted((r for r in a["regions"] if r["colour"] == "red"), key=lambda r: -r["area"])
     return [{"position": [float(x) for x in r["seeds"][0]] if r["seeds"] else None, "area": float(r["area"]),
              "genus": int(r["genus"]), "boundaries": int(2 - 2 * r["genus"] - r["euler_characteristic"])}
-            for r in red[:limit]]
+            for r in (red if limit is None else red[:limit])]
 
 
 def why_red(red, total, stopped, options):
