@@ -345,3 +345,21 @@ def test_no_clean_quad_to_fit_is_named():
         refit_design(Session(3))
     with pytest.raises(sw.InputError, match="has no patch"):
         refit_design(Session(0))
+
+
+def test_a_two_solid_file_gives_two_solids_with_their_volumes(tmp_path):
+    """An assembly's solids stay one solid each (issue 19): a cube and a flat box in one STEP
+    file weave clean, and patches.step holds two solids of 1000 and 240 (the sewn shells are
+    two, each closed; one compound of both), which FreeCAD reads back as such."""
+    import FreeCAD
+    import Part
+    path = str(tmp_path / "two.step")
+    Part.makeCompound([Part.makeBox(10, 10, 10), Part.makeBox(10, 6, 4, FreeCAD.Vector(20, 0, 0))]).exportStep(path)
+    report = sw.weave(path, target_triangles=8000, out=str(tmp_path / "out"), step=True)
+    fit = report["fit"]
+    assert fit["solids"] == 2 and fit["shells"] == 2 and fit["closed"] and fit["valid_shell"]
+    assert fit["volume"] == pytest.approx(1240.0, rel=1e-3)
+    back = Part.Shape()
+    back.read(str(tmp_path / "out" / "patches.step"))
+    assert sorted(round(s.Volume, 1) for s in back.Solids) == [240.0, 1000.0]
+    assert len(back.Faces) == 12

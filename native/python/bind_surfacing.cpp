@@ -40,7 +40,8 @@
 //     middle of each seam), max_seam_angle_deg_full (whole seam),
 //     max_seam_angle_deg_regular (whole seams between valence-4 vertices),
 //     max_sharp_angle_deg, smooth_seams, sharp_seams, boundary_edges, faces,
-//     shells, free_edges, valid_shell, closed, volume (None unless closed),
+//     shells, free_edges, valid_shell, closed, solids (closed shells made
+//     solids, one per input solid of an assembly), volume (None unless closed),
 //     shell_tolerance, step_faces_read_back (None without step_path),
 //     timings_ms {step: ms}, time_s (the whole call, STEP included), and
 //     "brep" (BREP string of the shell) with return_brep=True.
@@ -294,6 +295,7 @@ void bind_surfacing(py::module_& m) {
         d["free_edges"] = r.free_edges;
         d["valid_shell"] = r.valid_shell;
         d["closed"] = r.closed;
+        d["solids"] = r.solids;
         d["volume"] = r.closed ? py::object(py::float_(r.volume)) : py::object(py::none());
         d["shell_tolerance"] = r.shell_tolerance;
         d["step_faces_read_back"] = read_back >= 0 ? py::object(py::int_(read_back)) : py::object(py::none());

@@ -97,6 +97,8 @@ def fit_report(result):
     fit["tolerance_met"] = bool(result["tolerance_met"])
     fit["valid_shell"] = bool(result["valid_shell"])
     fit["closed"] = bool(result["closed"])
+    fit["shells"] = int(result["shells"])
+    fit["solids"] = int(result["solids"])
     fit["volume"] = None if result["volume"] is None else float(result["volume"])
     fit["faces"] = int(result["faces"])
     return fit
@@ -104,7 +106,9 @@ def fit_report(result):
 
 def format_fit(fit):
     """One line for people."""
-    shell = "closed solid" if fit["closed"] else "open shell"
+    solids = fit.get("solids", 1 if fit["closed"] else 0)
+    shell = ("closed solid" if solids == 1 else f"{solids} closed solids") if fit["closed"] else \
+        ("open shell" if not solids else f"{solids} solids and {fit.get('shells', solids) - solids} open shell(s)")
     validity = "valid" if fit["valid_shell"] else "INVALID"
     volume = f", volume {fit['volume']:.6g}" if fit["volume"] is not None else ""
     line = (f"fit: {fit['faces']} patches, max deviation {fit['max_deviation']:.3g} "

@@ -736,7 +736,7 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
     ShellFigures fig;
     result.shell = sew_patch_shell(result.surfaces, 1e-6 * diag, &fig);
     report.faces = fig.faces, report.shells = fig.shells, report.free_edges = fig.free_edges;
-    report.valid_shell = fig.valid, report.closed = fig.closed;
+    report.valid_shell = fig.valid, report.closed = fig.closed, report.solids = fig.solids;
     report.volume = fig.volume, report.shell_tolerance = fig.max_tolerance;
     watch.lap("shell");
   }

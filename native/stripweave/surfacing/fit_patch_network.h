@@ -167,7 +167,7 @@ struct FitReport {
   double max_sharp_angle_deg = 0;     // largest normal jump over sharp seams (for reference)
   Index smooth_seams = 0, sharp_seams = 0, boundary_edges = 0;
   // The shell (patch_shell.h), when built.
-  Index faces = 0, shells = 0, free_edges = 0;
+  Index faces = 0, shells = 0, free_edges = 0, solids = 0;
   bool valid_shell = false, closed = false;
   double volume = 0;
   double shell_tolerance = 0;

@@ -70,6 +70,24 @@ Index count_faces(const TopoDS_Shape& s) {
   return faces.Extent();
 }
 
+// The solid a closed shell bounds, oriented outward (ShapeFix_Solid, then
+// reversed if its volume comes out negative); null if OCCT cannot make one.
+TopoDS_Shape solid_of(const TopoDS_Shell& shell, double& volume) {
+  BRepBuilderAPI_MakeSolid make(shell);
+  if (!make.IsDone()) return TopoDS_Shape();
+  ShapeFix_Solid fix(make.Solid());
+  fix.Perform();
+  TopoDS_Shape solid = fix.Solid();
+  GProp_GProps props;
+  BRepGProp::VolumeProperties(solid, props);
+  if (props.Mass() < 0) {  // inside out: turn it
+    solid.Reverse();
+    BRepGProp::VolumeProperties(solid, props);
+  }
+  volume = props.Mass();
+  return solid;
+}
+
 }  // namespace
 
 std::shared_ptr<const PatchShell> sew_patch_shell(const std::vector<BSplinePatch>& patches, double sew_tolerance,
@@ -90,22 +108,29 @@ std::shared_ptr<const PatchShell> sew_patch_shell(const std::vector<BSplinePatch
     std::vector<TopoDS_Shell> shells;
     for (TopExp_Explorer ex(sewn, TopAbs_SHELL); ex.More(); ex.Next()) shells.push_back(TopoDS::Shell(ex.Current()));
     fig.shells = static_cast<Index>(shells.size());
-    fig.closed = shells.size() == 1 && fig.free_edges == 0;
-    if (fig.closed) {
-      BRepBuilderAPI_MakeSolid make(shells.front());
-      if (make.IsDone()) {
-        ShapeFix_Solid fix(make.Solid());
-        fix.Perform();
-        TopoDS_Shape solid = fix.Solid();
-        GProp_GProps props;
-        BRepGProp::VolumeProperties(solid, props);
-        if (props.Mass() < 0) {  // inside out: turn it
-          solid.Reverse();
-          BRepGProp::VolumeProperties(solid, props);
-        }
-        fig.volume = props.Mass();
-        sewn = solid;
+    // One solid per closed shell (an assembly's solids are separate shells), the
+    // open shells as they are.
+    std::vector<TopoDS_Shape> parts;
+    for (const TopoDS_Shell& shell : shells) {
+      double volume = 0;
+      const TopoDS_Shape solid = BRep_Tool::IsClosed(shell) ? solid_of(shell, volume) : TopoDS_Shape();
+      if (solid.IsNull()) {
+        parts.push_back(shell);
+        continue;
       }
+      parts.push_back(solid);
+      fig.volume += volume;
+      ++fig.solids;
+    }
+    fig.closed = !shells.empty() && fig.free_edges == 0 && fig.solids == fig.shells;
+    if (parts.size() == 1) {
+      sewn = parts.front();
+    } else if (!parts.empty()) {
+      TopoDS_Compound compound;
+      BRep_Builder builder;
+      builder.MakeCompound(compound);
+      for (const TopoDS_Shape& part : parts) builder.Add(compound, part);
+      sewn = compound;
     }
     out->shape = sewn;
     fig.faces = count_faces(sewn);

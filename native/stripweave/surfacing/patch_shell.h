@@ -10,9 +10,10 @@
 //         both ways) bounded by its natural boundary (BRepBuilderAPI_MakeFace);
 //         the faces' boundaries coincide to rounding because neighbours
 //         share their boundary control rows, so BRepBuilderAPI_Sewing with a
-//         tiny tolerance merges them into shared edges. A single shell with
-//         no free edge becomes a solid (BRepBuilderAPI_MakeSolid), oriented
-//         outward by ShapeFix_Solid.
+//         tiny tolerance merges them into shared edges. Every closed shell
+//         becomes a solid (BRepBuilderAPI_MakeSolid), oriented outward by
+//         ShapeFix_Solid: an assembly's solids stay one solid each, in one
+//         compound with any open shells.
 //
 // write_step(shell, path)  STEPControl_Writer with write.step.schema =
 //     AP214IS; reads the file back (STEPControl_Reader) and returns its face
@@ -34,9 +35,10 @@ struct ShellFigures {
   Index faces = 0;
   Index shells = 0;
   Index free_edges = 0;
-  bool closed = false;
+  Index solids = 0;           // closed shells made solids
+  bool closed = false;        // every shell closed and made a solid
   bool valid = false;
-  double volume = 0;          // model units cubed, closed only
+  double volume = 0;          // model units cubed: the solids' sum
   double max_tolerance = 0;   // largest vertex/edge tolerance after sewing
 };
 
