@@ -264,6 +264,7 @@ def _say(options, text):
 # the addition (DesignState keeps it) instead of deriving it again: next to nothing.
 WORK_QUERY, WORK_PER_POLL, WORK_ASSESS, WORK_DERIVE, WORK_LAYOUT, WORK_RESTORE = 0.5, 0.04, 0.5, 4.0, 1.0, 0.0
 WORK_PREDICT = 1.5    # a layout with its regions' assessment (about 0.1 s on a 30K-triangle part)
+WORK_PER_TARGET_PATCH = 5.0   # the budget a patch target gets at least, per patch asked for
 
 
 class _Weaver:
@@ -657,7 +658,13 @@ def _refine(w, ds, options, a, result, elapsed):
         deviation = _deviation(layout)
         patches = len(layout["patches"])
         oversized = _oversized(layout, options.max_area_ratio)
-        if deviation <= options.refine_deviation_deg and not oversized:
+        # A patch target asks for density: below it, refinement goes on past good corners, and
+        # a split may cost up to one flaw's worth of quality (a blob asked for 80 patches
+        # stopped at 26 when every split had to improve the corners; taking any valid split
+        # reached 58, not clean).
+        short = bool(options.patches) and patches < options.patches
+        slack = options.region_penalty_deg if short else 0.0
+        if deviation <= options.refine_deviation_deg and not oversized and not short:
             result.stopped = "done"
             break
         limit = options.patches or options.refine_patches
@@ -671,9 +678,13 @@ def _refine(w, ds, options, a, result, elapsed):
         # anchors of the loops that would shorten its long sides (_splits).
         # With the corners good enough, only the patches past the area bound are split.
         flawed = _defect_vertices(layout)
-        order = oversized if deviation <= options.refine_deviation_deg else \
-            oversized + sorted((i for i in range(patches) if i not in oversized),
-                               key=lambda i: (-_split_need(layout["patches"][i], flawed), i))
+        # Below a patch target with good corners, the largest patches first (even density).
+        if deviation <= options.refine_deviation_deg:
+            order = oversized + (sorted((i for i in range(patches) if i not in oversized),
+                                        key=lambda i: (-layout["patches"][i]["area"], i)) if short else [])
+        else:
+            order = oversized + sorted((i for i in range(patches) if i not in oversized),
+                                       key=lambda i: (-_split_need(layout["patches"][i], flawed), i))
         seeds = []
         for i in order:
             if len(seeds) >= options.refine_candidates:
@@ -707,7 +718,7 @@ def _refine(w, ds, options, a, result, elapsed):
             q = w.quality(pred, pred_layout, base_flaws)
             over = limit and len(pred_layout["patches"]) > limit and len(pred_layout["patches"]) > patches
             creases = _creased(pred_layout) > creased + 1e-9 * (1 + creased)
-            if pred["colours"]["red"] or score(pred)[0] > score(a)[0] or q >= current or over or creases:
+            if pred["colours"]["red"] or score(pred)[0] > score(a)[0] or q >= current + slack or over or creases:
                 tried.add(_key(seed[:3]))    # no gain from here in this design
                 continue
             if best is None or q < best[0]:
@@ -725,7 +736,7 @@ def _refine(w, ds, options, a, result, elapsed):
         after_layout = w.layout()
         after = w.assess()
         if after["colours"]["red"] or score(after)[0] > score(a)[0] or \
-                w.quality(after, after_layout, base_flaws) >= current or \
+                w.quality(after, after_layout, base_flaws) >= current + slack or \
                 _creased(after_layout) > creased + 1e-9 * (1 + creased):
             w.remove(index)
             continue
@@ -824,6 +835,10 @@ def auto_weave(ds, options=None):
     The design's existing strips are kept, first and unchanged."""
     options = options or WeaveOptions()
     options.check()
+    if options.patches:
+        # A patch target is work in proportion to it: a refining strip costs 10 to 20 units
+        # and adds 2 to 6 patches (measured on the bumpy sphere and the filleted box).
+        options = replace(options, budget=max(options.budget, WORK_PER_TARGET_PATCH * options.patches))
     w = _Weaver(ds, options)
     # Loop queries on one thread, with a cap on their work: both make each query's outcome
     # the same on any machine (two threads share the search's bound by timing).
