@@ -5,6 +5,7 @@ Figures are in model units; the tolerance defaults to 1e-3 of the bbox diagonal.
 """
 import math
 import os
+import re
 
 import numpy as np
 import pytest
@@ -347,7 +348,7 @@ def test_no_clean_quad_to_fit_is_named():
         refit_design(Session(0))
 
 
-def test_a_two_solid_file_gives_two_solids_with_their_volumes(tmp_path):
+def test_a_two_solid_file_gives_two_solids_with_their_volumes_named_and_coloured_faces(tmp_path):
     """An assembly's solids stay one solid each (issue 19): a cube and a flat box in one STEP
     file weave clean, and patches.step holds two solids of 1000 and 240 (the sewn shells are
     two, each closed; one compound of both), which FreeCAD reads back as such."""
@@ -363,3 +364,11 @@ def test_a_two_solid_file_gives_two_solids_with_their_volumes(tmp_path):
     back.read(str(tmp_path / "out" / "patches.step"))
     assert sorted(round(s.Volume, 1) for s in back.Solids) == [240.0, 1000.0]
     assert len(back.Faces) == 12
+    # Each face is named after its patch (fit["per_patch"] index) and coloured by its deviation
+    # as deviation.png draws it: every patch fits well within the tolerance here, so green.
+    text = open(tmp_path / "out" / "patches.step").read()
+    names = re.findall(r"ADVANCED_FACE\('patch (\d+)'", text)
+    assert sorted(map(int, names)) == list(range(12))
+    assert text.count("STYLED_ITEM") == 12
+    (rgb,) = set(re.findall(r"COLOUR_RGB\('',([^)]*)\)", text))
+    assert [float(x) for x in rgb.split(",")] == pytest.approx([0.15, 0.65, 0.3], abs=1e-6)

@@ -744,13 +744,30 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
   return result;
 }
 
+namespace {
+
+// The colour of a patch whose deviation is `ratio` times the tolerance, as the
+// deviation picture draws it (preview.py's deviation_colour): green at 0,
+// yellow at the tolerance, red at twice it and beyond, linear in between.
+Vec3 deviation_colour(double ratio) {
+  const Vec3 green(0.15, 0.65, 0.3), yellow(0.98, 0.85, 0.2), red(0.9, 0.15, 0.1);
+  const double r = std::clamp(std::isfinite(ratio) ? ratio : 2.0, 0.0, 2.0);
+  return r <= 1 ? Vec3((1 - r) * green + r * yellow) : Vec3((2 - r) * yellow + (r - 1) * red);
+}
+
+}  // namespace
+
 Index write_step(const FitResult& result, const std::string& path) {
-  if (result.shell) return write_step(*result.shell, path);
+  std::vector<Vec3> colours;
+  const double tolerance = result.report.tolerance;
+  for (const PatchFitFigures& p : result.report.per_patch)
+    colours.push_back(deviation_colour(tolerance > 0 ? p.max_deviation / tolerance : 0.0));
+  if (result.shell) return write_step(*result.shell, path, colours);
   BoundingBox box;
   for (const BSplinePatch& p : result.surfaces)
     for (const Vec3& c : p.control) box.add(c);
   const auto shell = sew_patch_shell(result.surfaces, 1e-6 * std::max(box.diagonal(), 1e-9), nullptr);
-  return write_step(*shell, path);
+  return write_step(*shell, path, colours);
 }
 
 }  // namespace stripweave

@@ -184,7 +184,9 @@ struct FitResult {
 
 FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network, const FitOptions& options = {});
 
-// STEP AP214 of the fitted shell (built now if the fit did not build it);
+// STEP AP214 of the fitted shell (built now if the fit did not build it),
+// each patch face named "patch i" and coloured by its deviation over the
+// tolerance as deviation.png draws it;
 // returns the face count read back from the file.
 Index write_step(const FitResult& result, const std::string& path);
 

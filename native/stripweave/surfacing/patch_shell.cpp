@@ -15,6 +15,9 @@
 #include <Geom_BSplineSurface.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <Interface_Static.hxx>
+#include <Quantity_Color.hxx>
+#include <STEPCAFControl_Controller.hxx>
+#include <STEPCAFControl_Writer.hxx>
 #include <STEPControl_Controller.hxx>
 #include <STEPControl_Reader.hxx>
 #include <STEPControl_Writer.hxx>
@@ -23,14 +26,21 @@
 #include <TColStd_Array1OfInteger.hxx>
 #include <TColStd_Array1OfReal.hxx>
 #include <TColgp_Array2OfPnt.hxx>
+#include <TCollection_ExtendedString.hxx>
+#include <TDataStd_Name.hxx>
+#include <TDocStd_Document.hxx>
 #include <TopExp.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Compound.hxx>
+#include <TopoDS_Face.hxx>
 #include <TopoDS_Shell.hxx>
 #include <TopoDS_Solid.hxx>
-
+#include <XCAFApp_Application.hxx>
+#include <XCAFDoc_ColorTool.hxx>
+#include <XCAFDoc_DocumentTool.hxx>
+#include <XCAFDoc_ShapeTool.hxx>
 #include <sstream>
 
 namespace stripweave {
@@ -38,6 +48,7 @@ namespace stripweave {
 class PatchShell {
  public:
   TopoDS_Shape shape;
+  std::vector<TopoDS_Face> faces;  // per fitted patch, its face in `shape` (after sewing)
 };
 
 namespace {
@@ -100,8 +111,13 @@ std::shared_ptr<const PatchShell> sew_patch_shell(const std::vector<BSplinePatch
       BRepBuilderAPI_MakeFace face(to_occt(p), Precision::Confusion());
       if (!face.IsDone()) throw InputError("could not make a face of a fitted patch");
       sewing.Add(face.Face());
+      out->faces.push_back(face.Face());
     }
     sewing.Perform();
+    // Each patch's face as the sewing left it (its name and colour in the STEP follow it;
+    // making solids below only orients the shells, which keeps every face the same).
+    for (TopoDS_Face& f : out->faces)
+      if (sewing.IsModified(f)) f = TopoDS::Face(sewing.Modified(f));
     TopoDS_Shape sewn = sewing.SewedShape();
     fig.free_edges = sewing.NbFreeEdges();
 
@@ -146,16 +162,35 @@ std::shared_ptr<const PatchShell> sew_patch_shell(const std::vector<BSplinePatch
   return out;
 }
 
-Index write_step(const PatchShell& shell, const std::string& path) {
+Index write_step(const PatchShell& shell, const std::string& path, const std::vector<Vec3>& colours) {
   try {
     quiet_occt_messages();  // the writer prints its statistics on stdout (a mesh source read none before)
     // The schema is read when the writer's model is made: set it first.
     STEPControl_Controller::Init();
+    STEPCAFControl_Controller::Init();  // defines the write.stepcaf.* parameters
     Interface_Static::SetCVal("write.step.schema", "AP214IS");
-    STEPControl_Writer writer;
-    if (writer.Transfer(shell.shape, STEPControl_AsIs) != IFSelect_RetDone)
-      throw InputError("could not translate the patch shell to STEP");
+    // Faces named after their patch ("patch 7"), in the file's ADVANCED_FACE entities.
+    Interface_Static::SetIVal("write.stepcaf.subshapes.name", 1);
+    // An XDE document: the shape, each patch face a named (and coloured) sub-shape.
+    Handle(TDocStd_Document) doc;
+    XCAFApp_Application::GetApplication()->NewDocument("MDTV-XCAF", doc);
+    Handle(XCAFDoc_ShapeTool) shapes = XCAFDoc_DocumentTool::ShapeTool(doc->Main());
+    Handle(XCAFDoc_ColorTool) paint = XCAFDoc_DocumentTool::ColorTool(doc->Main());
+    const TDF_Label root = shapes->AddShape(shell.shape, false);
+    for (size_t i = 0; i < shell.faces.size(); ++i) {
+      TDF_Label face = shapes->AddSubShape(root, shell.faces[i]);
+      if (face.IsNull()) continue;
+      TDataStd_Name::Set(face, TCollection_ExtendedString(("patch " + std::to_string(i)).c_str()));
+      if (i < colours.size())
+        paint->SetColor(face, Quantity_Color(colours[i].x(), colours[i].y(), colours[i].z(), Quantity_TOC_sRGB),
+                        XCAFDoc_ColorSurf);
+    }
+    STEPCAFControl_Writer writer;
+    writer.SetColorMode(true);
+    writer.SetNameMode(true);
+    if (!writer.Transfer(doc, STEPControl_AsIs)) throw InputError("could not translate the patch shell to STEP");
     if (writer.Write(path.c_str()) != IFSelect_RetDone) throw InputError("cannot write STEP file '" + path + "'");
+    XCAFApp_Application::GetApplication()->Close(doc);
     STEPControl_Reader reader;
     if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) return 0;
     reader.TransferRoots();

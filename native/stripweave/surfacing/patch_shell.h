@@ -15,9 +15,12 @@
 //         ShapeFix_Solid: an assembly's solids stay one solid each, in one
 //         compound with any open shells.
 //
-// write_step(shell, path)  STEPControl_Writer with write.step.schema =
-//     AP214IS; reads the file back (STEPControl_Reader) and returns its face
-//     count. InputError if the file cannot be written.
+// write_step(shell, path, colours)  STEPCAFControl_Writer (an XDE document)
+//     with write.step.schema = AP214IS: each patch's face named "patch i"
+//     (its index among the fitted patches, as in the fit report's per_patch)
+//     and, when colours are given (RGB in [0, 1] per patch), coloured; reads
+//     the file back (STEPControl_Reader) and returns its face count.
+//     InputError if the file cannot be written.
 // to_brep_string(shell)  BRepTools::Write, for FreeCAD's
 //     Part.Shape().importBrepFromString.
 #pragma once
@@ -44,7 +47,7 @@ struct ShellFigures {
 
 std::shared_ptr<const PatchShell> sew_patch_shell(const std::vector<BSplinePatch>& patches, double sew_tolerance,
                                                   ShellFigures* figures);
-Index write_step(const PatchShell& shell, const std::string& path);
+Index write_step(const PatchShell& shell, const std::string& path, const std::vector<Vec3>& colours = {});
 std::string to_brep_string(const PatchShell& shell);
 
 }  // namespace stripweave
