@@ -361,6 +361,22 @@ def test_runs_are_deterministic_whatever_the_threads():
         assert a["cost"] == b["cost"] == c["cost"]
 
 
+def test_released_search_workspaces_are_freed_and_come_back_for_the_next_query():
+    """The job frees the search scratch space (two workspaces per thread, 20 bytes per g'
+    node each) once weaving is done; a later query allocates it again and finds the same
+    loop."""
+    session = LoopSession(sw.from_shape(torus(10, 3), target_triangles=2000), threads=2)
+    assert session.native.workspace_bytes == 0          # nothing before the first query
+    first = session.best_loop((13, 0, 0))
+    held = session.native.workspace_bytes
+    assert held >= 20 * session.stats()["gprime_nodes"]
+    session.native.release_workspaces()
+    assert session.native.workspace_bytes == 0
+    again = session.best_loop((13, 0, 0))
+    assert again["nodes"] == first["nodes"] and again["cost"] == first["cost"]
+    assert session.native.workspace_bytes == held
+
+
 def test_a_newer_query_cancels_an_older_one(torus_session):
     """Hovering on: a slow query still running is cancelled by the next one (raises Cancelled)."""
     import threading

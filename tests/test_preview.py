@@ -31,6 +31,25 @@ def test_square_covers_its_pixels_and_the_nearer_square_wins():
     assert np.allclose(bary[hit].sum(1), 1.0)
 
 
+def test_the_raster_is_handed_to_numpy_and_shaded_where_it_lies():
+    """A supersampled view's raster is tens of MB: rasterize hands its buffers to numpy (the
+    arrays own them, no copy) and shade reads them in place (the triangle per pixel as
+    int32, as rasterize gives it)."""
+    screen = np.array([[0, 0, 1], [30, 0, 1], [0, 30, 1]], float)
+    tri, bary, depth = native.rasterize(screen, np.array([[0, 1, 2]]), 32, 32)
+    assert tri.dtype == np.int32 and tri.flags.c_contiguous and bary.shape == (32 * 32, 3)
+    for a in (tri, bary, depth):
+        assert a.base is not None and not a.flags.owndata   # a view of the native buffer
+    normals = np.tile([0.0, 0.0, 1.0], (3, 1))
+    args = (screen, normals, np.array([[0, 1, 2]]), [0.0, 0.0, 1.0], [0.5, 0.5, 0.5], [1.0, 1.0, 1.0])
+    rgb = native.shade(tri, bary, *args)
+    assert rgb.shape == (32 * 32, 3) and not rgb.flags.owndata
+    assert np.allclose(rgb[tri >= 0], 0.5) and np.allclose(rgb[tri < 0], 1.0)
+    del bary, depth
+    assert np.array_equal(native.shade(tri.astype(np.int64), native.rasterize(screen, np.array([[0, 1, 2]]), 32, 32)[1],
+                                       *args), rgb)
+
+
 def test_disc_area_and_both_orientations():
     # A disc of radius 40 pixels as a fan, wound clockwise: its pixel count is its area.
     n = 256

@@ -2,7 +2,7 @@
 //
 // rasterize(screen, triangles, width, height) -> (triangle, bary, depth)
 //   screen (n, 3) floats: pixel x, pixel y (down), depth (smaller is nearer);
-//   triangles (m, 3) ints. Per pixel, row-major: the nearest triangle (int64,
+//   triangles (m, 3) ints. Per pixel, row-major: the nearest triangle (int32,
 //   -1 for none), its barycentrics (width * height, 3), the depth (+inf for
 //   none). Errors: InputError for arrays of the wrong shape or a triangle
 //   naming a vertex that does not exist.
@@ -34,6 +34,7 @@ namespace {
 
 using Floats = py::array_t<double, py::array::c_style | py::array::forcecast>;
 using Ints = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>;
+using Pixels = py::array_t<Index, py::array::c_style | py::array::forcecast>;  // rasterize's triangle per pixel
 
 // An (m, 3) array of vertex indices as triangles, each naming one of `vertices`.
 std::vector<Tri> triangles_from(const Ints& a, size_t vertices, const std::string& fn) {
@@ -70,17 +71,10 @@ void bind_render(py::module_& m) {
           r = rasterize(points, tris, width, height);
         }
         const py::ssize_t n = static_cast<py::ssize_t>(r.triangle.size());
-        py::array_t<std::int64_t> tri(n);
-        py::array_t<double> bary({n, static_cast<py::ssize_t>(3)});
-        py::array_t<double> depth(n);
-        auto ot = tri.mutable_unchecked<1>();
-        auto ob = bary.mutable_unchecked<2>();
-        auto od = depth.mutable_unchecked<1>();
-        for (py::ssize_t i = 0; i < n; ++i) {
-          ot(i) = r.triangle[i];
-          for (int k = 0; k < 3; ++k) ob(i, k) = r.bary[i][k];
-          od(i) = r.depth[i];
-        }
+        // Handed over, not copied: the arrays own the raster's buffers.
+        auto tri = array_owning<Index>(std::move(r.triangle), {n});
+        auto bary = array_owning<double>(std::move(r.bary), {n, static_cast<py::ssize_t>(3)});
+        auto depth = array_owning<double>(std::move(r.depth), {n});
         return py::make_tuple(tri, bary, depth);
       },
       py::arg("screen"), py::arg("triangles"), py::arg("width"), py::arg("height"),
@@ -88,7 +82,7 @@ void bind_render(py::module_& m) {
 
   m.def(
       "shade",
-      [](const Ints& triangle, const Floats& bary, const Floats& vertices, const Floats& normals, const Ints& triangles,
+      [](const Pixels& triangle, const Floats& bary, const Floats& vertices, const Floats& normals, const Ints& triangles,
          const std::vector<double>& light,
          const std::vector<double>& base, const std::vector<double>& background, py::object tints,
          const std::vector<Floats>& stripes, const std::vector<std::vector<double>>& hues, double stripe_period,
@@ -124,27 +118,22 @@ void bind_render(py::module_& m) {
         }
         if (triangle.ndim() != 1 || bary.ndim() != 2 || bary.shape(1) != 3 || bary.shape(0) != triangle.shape(0))
           throw InputError("shade: triangle (pixels) and bary (pixels, 3) must come from one raster");
-        Raster raster;
+        // The pixels are read where numpy holds them (bary (n, 3) C-contiguous doubles is
+        // laid out as std::array<double, 3> per pixel): no copy of the raster.
         const py::ssize_t n = triangle.shape(0);
         const auto ti = triangle.unchecked<1>();
-        const auto bi = bary.unchecked<2>();
-        raster.triangle.resize(static_cast<size_t>(n));
-        raster.bary.resize(static_cast<size_t>(n));
-        for (py::ssize_t i = 0; i < n; ++i) {
+        for (py::ssize_t i = 0; i < n; ++i)
           if (ti(i) >= nt) throw InputError("shade: a pixel names triangle " + std::to_string(ti(i)) + ", which does not exist");
-          raster.triangle[i] = static_cast<Index>(ti(i));
-          raster.bary[i] = {bi(i, 0), bi(i, 1), bi(i, 2)};
-        }
+        RasterPixels raster;
+        raster.triangle = triangle.data();
+        raster.bary = reinterpret_cast<const std::array<double, 3>*>(bary.data());
+        raster.count = static_cast<size_t>(n);
         std::vector<Vec3> rgb;
         {
           stripweave_python::NativeCall release;
           rgb = shade(raster, points, tris, vertex_normals, look);
         }
-        py::array_t<double> out({n, static_cast<py::ssize_t>(3)});
-        auto o = out.mutable_unchecked<2>();
-        for (py::ssize_t i = 0; i < n; ++i)
-          for (int k = 0; k < 3; ++k) o(i, k) = rgb[i][k];
-        return out;
+        return array_owning<double>(std::move(rgb), {n, static_cast<py::ssize_t>(3)});
       },
       py::arg("triangle"), py::arg("bary"), py::arg("vertices"), py::arg("normals"), py::arg("triangles"),
       py::arg("light"), py::arg("base"), py::arg("background"), py::arg("tints") = py::none(),

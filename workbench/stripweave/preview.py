@@ -240,11 +240,14 @@ def draw_hatch(image, tri_img, marked, colour, period, width):
     """Diagonal screen-space lines over the pixels of marked triangles: a pattern that follows
     no surface direction, so it cannot be taken for a strip's stripes."""
     H, W = image.shape[:2]
-    y, x = np.mgrid[0:H, 0:W]
-    t = tri_img.reshape(H, W)
-    on = (t >= 0) & ((x + y) % period < width)
-    on[on] = marked[t[on]]
-    image[on] = colour
+    # Only the marked triangles' pixels are looked at (full-image index grids would be tens
+    # of MB on a supersampled view).
+    t = tri_img.reshape(-1)
+    pixel = np.flatnonzero(t >= 0)
+    pixel = pixel[marked[t[pixel]]]
+    y, x = np.divmod(pixel, W)
+    on = (x + y) % period < width
+    image[y[on], x[on]] = colour
 
 
 def draw_rings(image, depth, project, points, colour, radius, width, offset):
@@ -309,6 +312,7 @@ def render_view(scene, view, width, height, supersample=2, up=UP):
     diag = np.linalg.norm(vertices.max(0) - vertices.min(0))
     period = scene.stripe_period or diag / 55.0   # sparser than the solver could draw: a texture, not a grid
     img = shade(tri_img, bary, vertices, scene.triangles, scene.normals, light, scene.stripes, scene.tints, period)
+    del bary   # 24 bytes a pixel, not needed for the marks
     img = img.reshape(H, W, 3)
     if scene.hatch is not None and np.any(scene.hatch):
         draw_hatch(img, tri_img, np.asarray(scene.hatch, bool), MARK, period=9 * ss, width=2 * ss)
@@ -427,7 +431,8 @@ def _direction(d):
 def compose(views, legend_items, colour_bar=None):
     """The picture (HEIGHT, WIDTH, 3 uint8): the two views (label, image) side by side, over the
     legend band (the colour bar on its left when given, then the items)."""
-    canvas = np.ones((HEIGHT, WIDTH, 3)) * BACKGROUND / 255.0
+    canvas = np.empty((HEIGHT, WIDTH, 3))
+    canvas[:] = BACKGROUND / 255.0
     ph, pw = HEIGHT - LEGEND_H, WIDTH // 2
     for i, (label, img) in enumerate(views):
         canvas[:ph, i * pw:(i + 1) * pw] = img
@@ -439,7 +444,9 @@ def compose(views, legend_items, colour_bar=None):
         draw_colour_bar(canvas, colour_bar, x, y)
         x = 480
     draw_legend(canvas, legend_items, x, y, WIDTH - 8)
-    return np.clip(canvas * 255 + 0.5, 0, 255).astype(np.uint8)
+    canvas *= 255    # in place: the canvas is 19 MB of doubles
+    canvas += 0.5
+    return np.clip(canvas, 0, 255, out=canvas).astype(np.uint8)
 
 
 def write_png(path, image):

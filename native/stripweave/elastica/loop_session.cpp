@@ -34,6 +34,19 @@ void LoopSession::set_threads(int threads) {
   workspaces_.resize(std::max(1, threads));
 }
 
+std::size_t LoopSession::workspace_bytes() const {
+  std::lock_guard<std::mutex> lock(query_mutex_);  // after a running query
+  std::size_t bytes = 0;
+  for (const SearchWorkspaces& w : workspaces_) bytes += w.memory_bytes();
+  return bytes;
+}
+
+void LoopSession::release_workspaces() {
+  ++generation_;
+  std::lock_guard<std::mutex> lock(query_mutex_);
+  for (SearchWorkspaces& w : workspaces_) w.release();
+}
+
 template <typename F>
 auto LoopSession::run_query(F&& query) {
   // Announce the new query first, so a running one sees its generation change

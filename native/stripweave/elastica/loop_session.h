@@ -38,6 +38,14 @@ class LoopSession {
   // Threads a query may use (the machines have two cores).
   void set_threads(int threads);
   int threads() const { return static_cast<int>(workspaces_.size()); }
+  // The search scratch space: 20 bytes per g' node and workspace, two
+  // workspaces per thread (bidirectional), allocated by the first query and
+  // kept for the next (on 30K triangles some 70 MB, as much as g' itself).
+  std::size_t workspace_bytes() const;
+  // Free it (a running query is cancelled first): a job done with queries
+  // keeps the graph alone. The next query allocates it again; results do
+  // not change.
+  void release_workspaces();
 
   // The loops through the anchors, cheapest first, at most `count` distinct.
   std::vector<Loop> loops(const std::vector<Anchor>& anchors, int count, bool allow_open = true);
@@ -79,7 +87,7 @@ class LoopSession {
   std::vector<std::uint8_t> disabled_;
   bool mask_symmetric_ = true;
   std::vector<SearchWorkspaces> workspaces_;  // one per search thread
-  std::mutex query_mutex_;
+  mutable std::mutex query_mutex_;
   std::atomic<std::uint64_t> generation_{0};
   std::atomic<bool> query_limited_{false};
   std::atomic<std::uint64_t> last_query_polls_{0};
