@@ -11,7 +11,8 @@
 //       -> (pixels, 3) RGB
 //   The pixels of rasterize's output shaded (render/shade.h): tints (m, 3)
 //   per triangle with NaN rows for none; stripes, per strip, its stripe
-//   coordinates per triangle corner (m, 3, 2: along, across; NaN outside),
+//   coordinates per triangle corner (m, 3, 2: along, across; NaN outside; or
+//   (m, 3): across alone, all the shader reads),
 //   with hues, one RGB per strip; stripe_strength in [0, 1], the stripe line's
 //   share of the colour.
 #include "bind.h"
@@ -107,13 +108,17 @@ void bind_render(py::module_& m) {
         if (hues.size() != stripes.size()) throw InputError("shade: one hue per strip is needed");
         for (size_t i = 0; i < stripes.size(); ++i) {
           const Floats& c = stripes[i];
-          if (c.ndim() != 3 || c.shape(0) != nt || c.shape(1) != 3 || c.shape(2) != 2)
-            throw InputError("shade: strip " + std::to_string(i) + "'s coordinates must be a (triangles, 3, 2) array");
-          const auto r = c.unchecked<3>();
+          const bool across_only = c.ndim() == 2 && c.shape(0) == nt && c.shape(1) == 3;
+          if (!across_only && (c.ndim() != 3 || c.shape(0) != nt || c.shape(1) != 3 || c.shape(2) != 2))
+            throw InputError("shade: strip " + std::to_string(i) +
+                             "'s coordinates must be a (triangles, 3, 2) array, or (triangles, 3) across alone");
           ShadeStrip strip;
           strip.hue = vec3(hues[i], "a hue");
           strip.across.resize(static_cast<size_t>(nt));
-          for (py::ssize_t t = 0; t < nt; ++t) strip.across[t] = {r(t, 0, 1), r(t, 1, 1), r(t, 2, 1)};
+          const double* x = c.data();
+          const int stride = across_only ? 1 : 2, at = across_only ? 0 : 1;  // C order: (t, corner[, along|across])
+          for (py::ssize_t t = 0; t < nt; ++t)
+            for (int k = 0; k < 3; ++k) strip.across[t][k] = x[(3 * t + k) * stride + at];
           look.strips.push_back(std::move(strip));
         }
         if (triangle.ndim() != 1 || bary.ndim() != 2 || bary.shape(1) != 3 || bary.shape(0) != triangle.shape(0))
