@@ -318,6 +318,27 @@ def test_patch_edges_are_drawn_dark_over_dim_stripes():
     assert off.min() > 0.45                              # ... at low contrast
 
 
+def test_a_view_drawn_in_bands_is_the_view_drawn_whole(monkeypatch):
+    """render_view draws a view band by band (memory): with a margin past every mark's reach,
+    each pixel comes out as when the whole view is drawn at once, marks across the band
+    boundaries (a ring centred on one, the hatch, lines and stripes over them) included."""
+    v, t, n = grid_square()
+    v = v.copy()
+    v[:, 2] = 0.3 * np.sin(v[:, 0]) * np.cos(v[:, 1])    # not flat: depths and shading vary
+    stripes = [np.stack([v[t][:, :, 1], v[t][:, :, 0]], 2)]
+    hatch = np.zeros(len(t), bool)
+    hatch[::3] = True
+    scene = preview.Scene(v, t, n, stripes=stripes, lines=[[(0, 5, 0.5), (10, 5.1, 0.5)], [(5, 0, 0.5), (5, 10, 0.5)]],
+                          thin_lines=[[(0, 2, 0.5), (10, 8, 0.5)]], hatch=hatch,
+                          rings=np.array([[5.0, 5.0, 0.0], [2.0, 6.7, 0.0]]), stripe_period=0.5)
+    view = np.array([0.3, -0.4, 1.0])
+    monkeypatch.setattr(preview, "BANDS", 1)
+    whole = preview.render_view(scene, view, 160, 150)
+    for bands in (2, 3, 7):
+        monkeypatch.setattr(preview, "BANDS", bands)
+        assert np.array_equal(preview.render_view(scene, view, 160, 150), whole), bands
+
+
 def _fake_session(v, t, n):
     """What render_design and render_deviation read of a DesignSession: the surface, no strips."""
     s = SimpleNamespace(vertices=v, triangles=t, normals=n)
