@@ -245,11 +245,15 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
                                              **weave_options))
         log, stopped, work, cancelled = result.log, result.stopped, result.work, result.cancelled_queries
     # No loop query follows: the search scratch space (as large as g') goes back before the
-    # layout, the pictures and the fit need their memory.
+    # layout needs its memory.
     loop_session.native.release_workspaces()
     lap("weave")
     say("primal layout")
     layout, details = _layout_of(ds)
+    # The design is derived and its layout computed: nothing after this needs g' (the files,
+    # the pictures and the fit read the strips' paths and the layout), which is some 100 MB
+    # at 30K triangles and would sit under the pictures' and the fit's peaks.
+    loop_session.native.release_graph()
     lap("layout")
     report = make_report(ds, layout, {})
     if symmetry is not None or design.symmetry is not None:   # asked for (even "none"): say what was used

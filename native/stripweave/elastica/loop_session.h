@@ -29,7 +29,11 @@ class LoopSession {
   ~LoopSession();
 
   const Surface& surface() const { return *surface_; }
-  const ElasticaGraph& graph() const { return graph_; }
+  // InputError once the graph is released (release_graph).
+  const ElasticaGraph& graph() const {
+    check_graph();
+    return graph_;
+  }
   double build_ms() const { return build_ms_; }
 
   // Anchors farther than this from the surface are an error (normalized units).
@@ -46,6 +50,13 @@ class LoopSession {
   // keeps the graph alone. The next query allocates it again; results do
   // not change.
   void release_workspaces();
+  // Free g' with everything built on it (search tables, scratch space, mask):
+  // a job done with loop queries keeps the derived design (paths, strips),
+  // and the layout, pictures and fit need nothing of the graph. Every later
+  // use of the graph (a query, an embedding, a mask, graph()) raises
+  // InputError; the session is not rebuilt.
+  void release_graph();
+  bool graph_released() const { return graph_released_; }
 
   // The loops through the anchors, cheapest first, at most `count` distinct.
   std::vector<Loop> loops(const std::vector<Anchor>& anchors, int count, bool allow_open = true);
@@ -79,6 +90,8 @@ class LoopSession {
  private:
   template <typename F>
   auto run_query(F&& query);
+  void check_graph() const;
+  std::atomic<bool> graph_released_{false};
 
   std::shared_ptr<const Surface> surface_;
   ElasticaGraph graph_;

@@ -104,6 +104,9 @@ void DesignState::swap_derived(Derived& d) {
 }
 
 void DesignState::set_strips(const std::vector<StripSpec>& specs) {
+  // A session whose graph was released (LoopSession::release_graph) can derive
+  // nothing: refused before anything derived is touched.
+  session_->graph();
   // Back to the design before the last edit (a rejected strip removed): swap
   // the kept state back in, and keep the edited one in its place (redo).
   if (previous_.valid && specs.size() == previous_.strips.size() &&
