@@ -100,6 +100,7 @@ def test_bench_json(torus_step):
     assert list(job["stages"])[:5] == ["surface", "symmetry", "graph", "design", "weave"]
     assert job["peak"] >= max(m["stage_peak"] for m in job["stages"].values())
     assert 0 < job["imports"] < min(m["rss"] for m in job["stages"].values())
+    assert job["freecad_imports"] > job["imports"]
 
 
 def test_loop_json_contract(torus_step):

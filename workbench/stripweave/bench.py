@@ -18,8 +18,8 @@ loops part adds graph_mb (g') and workspace_mb (the search scratch space), the s
 design_memory_mb (DesignState.memory_bytes: strips, field, parameterization, mask and the
 state kept from before the last edit). With job=True (`bench --job`) "job" holds the main
 job's memory (job_memory): `weave MODEL --auto --step` run in a child process with stage
-peaks, and the resident memory of Python with the workbench, FreeCAD and OCCT imported
-alone (its baseline). `bench --scale` is bench_scale.py.
+peaks, and the resident memory of Python with the job's imports alone (the workbench and
+the native library with OCCT: its baseline), and with FreeCAD's Part besides. `bench --scale` is bench_scale.py.
 """
 import json
 import subprocess
@@ -231,20 +231,29 @@ def bench_symmetry(surface, repeat=3):
                             "max_error": s["max_error"] / surface.bbox_diagonal} for s in found]}
 
 
-# What the main job imports before it loads a model: the baseline of its memory.
-_IMPORTS = "import FreeCAD, Part; from stripweave import job, preview, surfacing; from stripweave._native import native"
+# What the main job imports before it loads a model (the native library brings OCCT and CGAL):
+# the baseline of its memory; and the same with FreeCAD's Part, which the job needs only for
+# a model given as a FreeCAD shape.
+_IMPORTS = "from stripweave import cli, job, preview, surfacing; from stripweave._native import native"
+_FREECAD = "import FreeCAD, Part; " + _IMPORTS
+
+
+def _imports_mb(code, env, timeout_s):
+    """The resident memory of a Python that ran `code` alone (MB), None if it failed."""
+    p = subprocess.run([sys.executable, "-c", code + "; from stripweave.memory import resident_memory_mb; "
+                        "print(resident_memory_mb())"], capture_output=True, text=True, env=env, timeout=timeout_s)
+    return float(p.stdout.split()[-1]) if p.returncode == 0 and p.stdout.split() else None
 
 
 def job_memory(path, target_triangles=None, timeout_s=1800):
     """The main job's memory, MB: `weave MODEL --auto --step` in a child process with stage
     peaks (memory.py): {"stages": report.json's memory_mb, "peak": its peak, "imports": the
-    resident memory of a Python that imported the workbench, FreeCAD and OCCT alone}. An
+    resident memory of a Python that imported what the job imports (the workbench and the
+    native library with OCCT) alone, "freecad_imports": the same with FreeCAD's Part}. An
     error in the job gives {"error": its last line}."""
     from .memory import STAGE_PEAKS_ENV
     env = {**os.environ, STAGE_PEAKS_ENV: "1"}
-    probe = subprocess.run([sys.executable, "-c", _IMPORTS + "; from stripweave.memory import resident_memory_mb; "
-                            "print(resident_memory_mb())"], capture_output=True, text=True, env=env, timeout=timeout_s)
-    imports = float(probe.stdout.split()[-1]) if probe.returncode == 0 and probe.stdout.split() else None
+    imports = {"imports": _imports_mb(_IMPORTS, env, timeout_s), "freecad_imports": _imports_mb(_FREECAD, env, timeout_s)}
     with tempfile.TemporaryDirectory() as out:
         argv = [sys.executable, "-m", "stripweave.cli", "weave", os.fspath(path), "--auto", "--step", "--out", out]
         if target_triangles is not None:
@@ -255,8 +264,8 @@ def job_memory(path, target_triangles=None, timeout_s=1800):
                 report = json.load(f)
         except (OSError, ValueError):
             lines = (p.stderr or p.stdout).strip().splitlines()
-            return {"imports": imports, "error": lines[-1] if lines else f"exit status {p.returncode}"}
-    return {"imports": imports, "peak": report["peak_memory_mb"], "stages": report["memory_mb"]}
+            return {**imports, "error": lines[-1] if lines else f"exit status {p.returncode}"}
+    return {**imports, "peak": report["peak_memory_mb"], "stages": report["memory_mb"]}
 
 
 def run_bench(path, repeat=3, loops=True, strips=True, refit=True, job=False, **options):

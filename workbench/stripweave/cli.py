@@ -381,7 +381,8 @@ def build_parser():
     p.add_argument("--no-refit", action="store_true", help="skip the surfacing stage (refit_s)")
     p.add_argument("--job", action="store_true",
                    help="also the main job's memory per stage: weave MODEL --auto --step in a child process "
-                        "(job.stages, job.peak; job.imports: Python with FreeCAD and OCCT alone)")
+                        "(job.stages, job.peak; job.imports: Python with the job's imports alone, OCCT's included; "
+                        "job.freecad_imports: and FreeCAD's Part)")
     _add_surface_options(p)
     p.set_defaults(run=cmd_bench)
     return parser
