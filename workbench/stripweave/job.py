@@ -252,8 +252,10 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
     layout, details = _layout_of(ds)
     # The design is derived and its layout computed: nothing after this needs g' (the files,
     # the pictures and the fit read the strips' paths and the layout), which is some 100 MB
-    # at 30K triangles and would sit under the pictures' and the fit's peaks.
-    loop_session.native.release_graph()
+    # at 30K triangles and would sit under the pictures' and the fit's peaks. (A build without
+    # the layout stage has no details: preview.png then embeds the loops again, on g'.)
+    if details is not None:
+        loop_session.native.release_graph()
     lap("layout")
     report = make_report(ds, layout, {})
     if symmetry is not None or design.symmetry is not None:   # asked for (even "none"): say what was used
