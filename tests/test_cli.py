@@ -77,7 +77,7 @@ def test_bad_input_gives_one_line_error_and_nonzero_exit(tmp_path):
 
 
 def test_bench_json(torus_step):
-    p = run("bench", torus_step, "--repeat", "2", "--target-triangles", "5000")
+    p = run("bench", torus_step, "--repeat", "2", "--target-triangles", "5000", "--job")
     assert p.returncode == 0, p.stderr
     bench = json.loads(p.stdout)
     assert bench["triangles"] > 3000 and bench["input_triangles"] > 0
@@ -91,7 +91,16 @@ def test_bench_json(torus_step):
     assert bench["refit"]["design"] in ("bench", "auto") and bench["refit"]["valid_shell"]
     # What each part holds (issue 22): resident memory after it and the peak so far.
     assert list(bench["memory_mb"]) == ["surface", "loops", "strips", "refit"]
-    assert all(0 < m["rss"] <= m["peak"] for m in bench["memory_mb"].values())
+    assert all(0 < m["rss"] <= m["stage_peak"] <= m["peak"] for m in bench["memory_mb"].values())
+    assert bench["graph_mb"] > 0 and bench["workspace_mb"] > 0
+    assert set(bench["design_memory_mb"]) == {"strips", "field", "parameterization", "mask", "previous"}
+    # The main job's parts, in a child process: each stage's rss and own peak, the job's peak
+    # (the largest stage peak) and the imports' baseline below all of them.
+    job = bench["job"]
+    assert list(job["stages"])[:5] == ["surface", "symmetry", "graph", "design", "weave"]
+    assert job["peak"] >= max(m["stage_peak"] for m in job["stages"].values())
+    assert 0 < job["imports"] < min(m["rss"] for m in job["stages"].values())
+    assert job["freecad_imports"] > job["imports"]
 
 
 def test_loop_json_contract(torus_step):

@@ -361,6 +361,45 @@ def test_runs_are_deterministic_whatever_the_threads():
         assert a["cost"] == b["cost"] == c["cost"]
 
 
+def test_released_search_workspaces_are_freed_and_come_back_for_the_next_query():
+    """The job frees the search scratch space (two workspaces per thread, 20 bytes per g'
+    node each) once weaving is done; a later query allocates it again and finds the same
+    loop."""
+    session = LoopSession(sw.from_shape(torus(10, 3), target_triangles=2000), threads=2)
+    assert session.native.workspace_bytes == 0          # nothing before the first query
+    nodes = session.stats()["gprime_nodes"]
+    first = session.best_loop((13, 0, 0))
+    # At least one workspace (which threads took part depends on their timing).
+    assert session.native.workspace_bytes >= 20 * nodes
+    session.native.release_workspaces()
+    assert session.native.workspace_bytes == 0
+    again = session.best_loop((13, 0, 0))
+    assert again["nodes"] == first["nodes"] and again["cost"] == first["cost"]
+    assert session.native.workspace_bytes >= 20 * nodes
+
+
+def test_a_released_graph_is_freed_and_every_later_use_is_a_clear_error():
+    """The job releases g' once its design and layout are derived: the design's strips and
+    layout stay readable, and any use of the graph is an InputError, never a crash."""
+    from stripweave.design import Design
+    from stripweave.strips import DesignSession
+    surface = sw.from_shape(torus(10, 3), target_triangles=2000)
+    ds = DesignSession(surface, Design([[(13, 0, 0, 0, 0, 1)], [(0, 13, 0, 1, 0, 0)]]))
+    session = ds.loop_session
+    assert session.stats()["graph_mb"] > 0
+    points = ds.strip(1)["points"]
+    layout = ds.native.layout(False)
+    session.native.release_graph()
+    assert session.native.graph_released and session.native.workspace_bytes == 0
+    assert ds.native.layout(False)["summary"] == layout["summary"]   # the layout needs no graph
+    assert (ds.strip(1)["points"] == points).all()
+    for use in (lambda: session.best_loop((13, 0, 0)), lambda: session.loops([(13, 0, 0, 0, 0, 1)]),
+                lambda: session.stats(), lambda: session.native.set_disabled([0], True),
+                lambda: ds.add_strip([(13, 0, 0)]), lambda: ds.loops([(13, 0, 0)])):
+        with pytest.raises(sw.InputError, match="graph was released"):
+            use()
+
+
 def test_a_newer_query_cancels_an_older_one(torus_session):
     """Hovering on: a slow query still running is cancelled by the next one (raises Cancelled)."""
     import threading

@@ -31,6 +31,25 @@ def test_square_covers_its_pixels_and_the_nearer_square_wins():
     assert np.allclose(bary[hit].sum(1), 1.0)
 
 
+def test_the_raster_is_handed_to_numpy_and_shaded_where_it_lies():
+    """A supersampled view's raster is tens of MB: rasterize hands its buffers to numpy (the
+    arrays own them, no copy) and shade reads them in place (the triangle per pixel as
+    int32, as rasterize gives it)."""
+    screen = np.array([[0, 0, 1], [30, 0, 1], [0, 30, 1]], float)
+    tri, bary, depth = native.rasterize(screen, np.array([[0, 1, 2]]), 32, 32)
+    assert tri.dtype == np.int32 and tri.flags.c_contiguous and bary.shape == (32 * 32, 3)
+    for a in (tri, bary, depth):
+        assert a.base is not None and not a.flags.owndata   # a view of the native buffer
+    normals = np.tile([0.0, 0.0, 1.0], (3, 1))
+    args = (screen, normals, np.array([[0, 1, 2]]), [0.0, 0.0, 1.0], [0.5, 0.5, 0.5], [1.0, 1.0, 1.0])
+    rgb = native.shade(tri, bary, *args)
+    assert rgb.shape == (32 * 32, 3) and not rgb.flags.owndata
+    assert np.allclose(rgb[tri >= 0], 0.5) and np.allclose(rgb[tri < 0], 1.0)
+    del bary, depth
+    assert np.array_equal(native.shade(tri.astype(np.int64), native.rasterize(screen, np.array([[0, 1, 2]]), 32, 32)[1],
+                                       *args), rgb)
+
+
 def test_disc_area_and_both_orientations():
     # A disc of radius 40 pixels as a fan, wound clockwise: its pixel count is its area.
     n = 256
@@ -297,6 +316,27 @@ def test_patch_edges_are_drawn_dark_over_dim_stripes():
     off = img[120, 20:180]
     assert off.max() - off.min() > 0.05                  # stripes are drawn there ...
     assert off.min() > 0.45                              # ... at low contrast
+
+
+def test_a_view_drawn_in_bands_is_the_view_drawn_whole(monkeypatch):
+    """render_view draws a view band by band (memory): with a margin past every mark's reach,
+    each pixel comes out as when the whole view is drawn at once, marks across the band
+    boundaries (a ring centred on one, the hatch, lines and stripes over them) included."""
+    v, t, n = grid_square()
+    v = v.copy()
+    v[:, 2] = 0.3 * np.sin(v[:, 0]) * np.cos(v[:, 1])    # not flat: depths and shading vary
+    stripes = [np.stack([v[t][:, :, 1], v[t][:, :, 0]], 2)]
+    hatch = np.zeros(len(t), bool)
+    hatch[::3] = True
+    scene = preview.Scene(v, t, n, stripes=stripes, lines=[[(0, 5, 0.5), (10, 5.1, 0.5)], [(5, 0, 0.5), (5, 10, 0.5)]],
+                          thin_lines=[[(0, 2, 0.5), (10, 8, 0.5)]], hatch=hatch,
+                          rings=np.array([[5.0, 5.0, 0.0], [2.0, 6.7, 0.0]]), stripe_period=0.5)
+    view = np.array([0.3, -0.4, 1.0])
+    monkeypatch.setattr(preview, "BANDS", 1)
+    whole = preview.render_view(scene, view, 160, 150)
+    for bands in (2, 3, 7):
+        monkeypatch.setattr(preview, "BANDS", bands)
+        assert np.array_equal(preview.render_view(scene, view, 160, 150), whole), bands
 
 
 def _fake_session(v, t, n):

@@ -210,6 +210,31 @@ def test_editing_updates_every_strip(torus_surface):
     assert len(ds.design.strips) == 1 and ds.native.strip_count == 1
 
 
+def test_an_edit_keeps_the_state_before_it_once_and_undo_gives_it_back(torus_surface):
+    """DesignState keeps the derived state from before the last edit to go back to it
+    (a rejected strip): moved into its undo slot, not copied, so the design holds two
+    derived states, and removing the strip again restores the first exactly."""
+    ds = DesignSession(torus_surface, Design([MERIDIAN]))
+    before = ds.native.memory_bytes
+    held = sum(v for k, v in before.items() if k != "previous")
+    strip = ds.strip(0)
+    ds.add_strip([(0, 13, 0, 1, 0, 0)])
+    after = ds.native.memory_bytes
+    # The undo slot holds the one-strip state as it was (its mask copied, all else moved).
+    assert after["previous"] == pytest.approx(held, rel=0.02)
+    assert after["strips"] > before["strips"]
+    ds.remove_strip(1)
+    assert ds.native.memory_bytes["strips"] == before["strips"]
+    again = ds.strip(0)
+    assert np.array_equal(again["points"], strip["points"]) and again["triangles"] == strip["triangles"]
+    assert np.array_equal(ds.native.strip_coordinates(0), torus_meridian_coordinates(ds), equal_nan=True)
+
+
+def torus_meridian_coordinates(ds):
+    """The meridian's strip coordinates derived afresh (no undo slot involved)."""
+    return DesignSession(ds.surface, Design([MERIDIAN])).native.strip_coordinates(0)
+
+
 def test_design_reloads_onto_a_retessellated_model(tmp_path, torus_surface):
     ds = DesignSession(torus_surface, Design([MERIDIAN, [(0, 13, 0, 1, 0, 0)]]))
     path = tmp_path / "design.json"

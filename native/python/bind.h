@@ -4,6 +4,7 @@
 #include "stripweave/core/fp_guard.h"
 #include "stripweave/elastica/loop_session.h"
 
+#include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
 #include <string>
@@ -29,6 +30,17 @@ pybind11::dict path_dict(const stripweave::Surface& s, const stripweave::Surface
 // An (n, 3) array (or anything numpy turns into one) as points; InputError
 // "<what> must be an (n, 3) array" otherwise.
 std::vector<stripweave::Vec3> points_from(const pybind11::handle& a, const std::string& what);
+
+// A vector handed to numpy without a copy: the array owns it and frees it with
+// itself (a copy would double a supersampled picture's tens of MB for a moment).
+// `shape`'s trailing sizes must fill one T with Elems.
+template <class Elem, class T>
+pybind11::array_t<Elem> array_owning(std::vector<T>&& values, std::vector<pybind11::ssize_t> shape) {
+  static_assert(sizeof(T) % sizeof(Elem) == 0, "a T must hold whole Elems");
+  auto* owned = new std::vector<T>(std::move(values));
+  pybind11::capsule owner(owned, [](void* p) { delete static_cast<std::vector<T>*>(p); });
+  return pybind11::array_t<Elem>(shape, reinterpret_cast<const Elem*>(owned->data()), owner);
+}
 
 void bind_loops(pybind11::module_& m);
 void bind_field(pybind11::module_& m);   // cross field (paper §6.1)

@@ -46,11 +46,13 @@ py::dict strip_dict(const Surface& s, const DesignStrip& d) {
   // every loop segment, in the strip coordinates carried through S's
   // transitions (a check of exact alignment, model units).
   double across = 0;
+  std::vector<Index> slot(d.strip.covered.size(), kInvalid);  // triangle -> its entry in coords
+  for (size_t k = 0; k < d.strip.triangles.size(); ++k) slot[d.strip.triangles[k]] = static_cast<Index>(k);
   for (const PathSegment& seg : d.path.segments) {
     if (!d.strip.covered[seg.triangle]) continue;
     for (Index point : {seg.from, seg.to}) {
       const Vec3 b = barycentric_in(s, d.path.path, point, seg.triangle);
-      const auto& c = d.strip.coords[seg.triangle];
+      const auto& c = d.strip.coords[slot[seg.triangle]];
       across = std::max(across, std::abs(b[0] * c[0].y() + b[1] * c[1].y() + b[2] * c[2].y()));
     }
   }
@@ -89,12 +91,15 @@ void bind_design(py::module_& m) {
              // Per triangle corner (along, across) in model units; NaN outside the strip.
              if (i >= d.strips().size()) throw py::index_error("no strip " + std::to_string(i));
              const Strip& st = d.strips()[i].strip;
-             const py::ssize_t nt = static_cast<py::ssize_t>(st.coords.size());
+             const py::ssize_t nt = static_cast<py::ssize_t>(st.covered.size());
              py::array_t<double> out({nt, py::ssize_t(3), py::ssize_t(2)});
              auto o = out.mutable_unchecked<3>();
              for (py::ssize_t t = 0; t < nt; ++t)
                for (int c = 0; c < 3; ++c)
-                 for (int k = 0; k < 2; ++k) o(t, c, k) = st.covered[t] ? st.coords[t][c][k] : std::nan("");
+                 for (int k = 0; k < 2; ++k) o(t, c, k) = std::nan("");
+             for (size_t j = 0; j < st.triangles.size(); ++j)
+               for (int c = 0; c < 3; ++c)
+                 for (int k = 0; k < 2; ++k) o(st.triangles[j], c, k) = st.coords[j][c][k];
              return out;
            })
       .def("singularities",
@@ -111,6 +116,17 @@ void bind_design(py::module_& m) {
              }
              return out;
            })
+      .def_property_readonly("memory_bytes",
+                             [](const DesignState& d) {
+                               const DesignState::MemoryBytes m = d.memory_bytes();
+                               py::dict out;
+                               out["strips"] = m.strips;
+                               out["field"] = m.field;
+                               out["parameterization"] = m.param;
+                               out["mask"] = m.mask;
+                               out["previous"] = m.previous;
+                               return out;
+                             })
       .def_property_readonly("fold_overs", [](const DesignState& d) { return d.parameterization().fold_overs; })
       .def_property_readonly("timings_ms",
                              [](const DesignState& d) {

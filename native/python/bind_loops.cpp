@@ -209,6 +209,13 @@ void bind_loops(py::module_& m) {
       .def("set_threads", &LoopSession::set_threads, py::arg("threads"),
            "threads a query may use (default: two, one per core)")
       .def_property_readonly("threads", &LoopSession::threads, "threads a query may use")
+      .def_property_readonly("workspace_bytes", &LoopSession::workspace_bytes,
+                             "bytes of search scratch space held (allocated by the first query)")
+      .def("release_workspaces", &LoopSession::release_workspaces,
+           "free the search scratch space (the next query allocates it again; results do not change)")
+      .def("release_graph", &LoopSession::release_graph,
+           "free g' and the search state (a job done with queries); later uses of the graph raise InputError")
+      .def_property_readonly("graph_released", &LoopSession::graph_released)
       .def("set_disabled", &LoopSession::set_disabled, py::arg("nodes"), py::arg("disabled") = true)
       .def("clear_disabled", &LoopSession::clear_disabled)
       .def("cancel", &LoopSession::cancel)

@@ -2,7 +2,7 @@
 //
 // rasterize(screen, triangles, width, height) -> (triangle, bary, depth)
 //   screen (n, 3) floats: pixel x, pixel y (down), depth (smaller is nearer);
-//   triangles (m, 3) ints. Per pixel, row-major: the nearest triangle (int64,
+//   triangles (m, 3) ints. Per pixel, row-major: the nearest triangle (int32,
 //   -1 for none), its barycentrics (width * height, 3), the depth (+inf for
 //   none). Errors: InputError for arrays of the wrong shape or a triangle
 //   naming a vertex that does not exist.
@@ -11,7 +11,8 @@
 //       -> (pixels, 3) RGB
 //   The pixels of rasterize's output shaded (render/shade.h): tints (m, 3)
 //   per triangle with NaN rows for none; stripes, per strip, its stripe
-//   coordinates per triangle corner (m, 3, 2: along, across; NaN outside),
+//   coordinates per triangle corner (m, 3, 2: along, across; NaN outside; or
+//   (m, 3): across alone, all the shader reads),
 //   with hues, one RGB per strip; stripe_strength in [0, 1], the stripe line's
 //   share of the colour.
 #include "bind.h"
@@ -34,6 +35,7 @@ namespace {
 
 using Floats = py::array_t<double, py::array::c_style | py::array::forcecast>;
 using Ints = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>;
+using Pixels = py::array_t<Index, py::array::c_style | py::array::forcecast>;  // rasterize's triangle per pixel
 
 // An (m, 3) array of vertex indices as triangles, each naming one of `vertices`.
 std::vector<Tri> triangles_from(const Ints& a, size_t vertices, const std::string& fn) {
@@ -70,17 +72,10 @@ void bind_render(py::module_& m) {
           r = rasterize(points, tris, width, height);
         }
         const py::ssize_t n = static_cast<py::ssize_t>(r.triangle.size());
-        py::array_t<std::int64_t> tri(n);
-        py::array_t<double> bary({n, static_cast<py::ssize_t>(3)});
-        py::array_t<double> depth(n);
-        auto ot = tri.mutable_unchecked<1>();
-        auto ob = bary.mutable_unchecked<2>();
-        auto od = depth.mutable_unchecked<1>();
-        for (py::ssize_t i = 0; i < n; ++i) {
-          ot(i) = r.triangle[i];
-          for (int k = 0; k < 3; ++k) ob(i, k) = r.bary[i][k];
-          od(i) = r.depth[i];
-        }
+        // Handed over, not copied: the arrays own the raster's buffers.
+        auto tri = array_owning<Index>(std::move(r.triangle), {n});
+        auto bary = array_owning<double>(std::move(r.bary), {n, static_cast<py::ssize_t>(3)});
+        auto depth = array_owning<double>(std::move(r.depth), {n});
         return py::make_tuple(tri, bary, depth);
       },
       py::arg("screen"), py::arg("triangles"), py::arg("width"), py::arg("height"),
@@ -88,7 +83,7 @@ void bind_render(py::module_& m) {
 
   m.def(
       "shade",
-      [](const Ints& triangle, const Floats& bary, const Floats& vertices, const Floats& normals, const Ints& triangles,
+      [](const Pixels& triangle, const Floats& bary, const Floats& vertices, const Floats& normals, const Ints& triangles,
          const std::vector<double>& light,
          const std::vector<double>& base, const std::vector<double>& background, py::object tints,
          const std::vector<Floats>& stripes, const std::vector<std::vector<double>>& hues, double stripe_period,
@@ -113,38 +108,37 @@ void bind_render(py::module_& m) {
         if (hues.size() != stripes.size()) throw InputError("shade: one hue per strip is needed");
         for (size_t i = 0; i < stripes.size(); ++i) {
           const Floats& c = stripes[i];
-          if (c.ndim() != 3 || c.shape(0) != nt || c.shape(1) != 3 || c.shape(2) != 2)
-            throw InputError("shade: strip " + std::to_string(i) + "'s coordinates must be a (triangles, 3, 2) array");
-          const auto r = c.unchecked<3>();
+          const bool across_only = c.ndim() == 2 && c.shape(0) == nt && c.shape(1) == 3;
+          if (!across_only && (c.ndim() != 3 || c.shape(0) != nt || c.shape(1) != 3 || c.shape(2) != 2))
+            throw InputError("shade: strip " + std::to_string(i) +
+                             "'s coordinates must be a (triangles, 3, 2) array, or (triangles, 3) across alone");
           ShadeStrip strip;
           strip.hue = vec3(hues[i], "a hue");
           strip.across.resize(static_cast<size_t>(nt));
-          for (py::ssize_t t = 0; t < nt; ++t) strip.across[t] = {r(t, 0, 1), r(t, 1, 1), r(t, 2, 1)};
+          const double* x = c.data();
+          const int stride = across_only ? 1 : 2, at = across_only ? 0 : 1;  // C order: (t, corner[, along|across])
+          for (py::ssize_t t = 0; t < nt; ++t)
+            for (int k = 0; k < 3; ++k) strip.across[t][k] = x[(3 * t + k) * stride + at];
           look.strips.push_back(std::move(strip));
         }
         if (triangle.ndim() != 1 || bary.ndim() != 2 || bary.shape(1) != 3 || bary.shape(0) != triangle.shape(0))
           throw InputError("shade: triangle (pixels) and bary (pixels, 3) must come from one raster");
-        Raster raster;
+        // The pixels are read where numpy holds them (bary (n, 3) C-contiguous doubles is
+        // laid out as std::array<double, 3> per pixel): no copy of the raster.
         const py::ssize_t n = triangle.shape(0);
         const auto ti = triangle.unchecked<1>();
-        const auto bi = bary.unchecked<2>();
-        raster.triangle.resize(static_cast<size_t>(n));
-        raster.bary.resize(static_cast<size_t>(n));
-        for (py::ssize_t i = 0; i < n; ++i) {
+        for (py::ssize_t i = 0; i < n; ++i)
           if (ti(i) >= nt) throw InputError("shade: a pixel names triangle " + std::to_string(ti(i)) + ", which does not exist");
-          raster.triangle[i] = static_cast<Index>(ti(i));
-          raster.bary[i] = {bi(i, 0), bi(i, 1), bi(i, 2)};
-        }
+        RasterPixels raster;
+        raster.triangle = triangle.data();
+        raster.bary = reinterpret_cast<const std::array<double, 3>*>(bary.data());
+        raster.count = static_cast<size_t>(n);
         std::vector<Vec3> rgb;
         {
           stripweave_python::NativeCall release;
           rgb = shade(raster, points, tris, vertex_normals, look);
         }
-        py::array_t<double> out({n, static_cast<py::ssize_t>(3)});
-        auto o = out.mutable_unchecked<2>();
-        for (py::ssize_t i = 0; i < n; ++i)
-          for (int k = 0; k < 3; ++k) o(i, k) = rgb[i][k];
-        return out;
+        return array_owning<double>(std::move(rgb), {n, static_cast<py::ssize_t>(3)});
       },
       py::arg("triangle"), py::arg("bary"), py::arg("vertices"), py::arg("normals"), py::arg("triangles"),
       py::arg("light"), py::arg("base"), py::arg("background"), py::arg("tints") = py::none(),

@@ -12,9 +12,19 @@ strip design when its layout is valid, else on an auto-woven design (weave.auto_
 with refit_patches and a "refit" block (which design, deviation against the
 tolerance, patches over creases, shell validity). Target: 10 s for 100 patches.
 
-memory_mb {part: {"rss", "peak"}}: resident memory after the surface, loops, strips and
-refit parts and the peak so far (issue 22). `bench --scale` is bench_scale.py.
+memory_mb {part: {"rss", "peak", "stage_peak"}}: resident memory after the surface, loops,
+strips and refit parts, the peak so far and each part's own peak (memory.py, issue 22); the
+loops part adds graph_mb (g') and workspace_mb (the search scratch space), the strips part
+design_memory_mb (DesignState.memory_bytes: strips, field, parameterization, mask and the
+state kept from before the last edit). With job=True (`bench --job`) "job" holds the main
+job's memory (job_memory): `weave MODEL --auto --step` run in a child process with stage
+peaks, and the resident memory of Python with the job's imports alone (the workbench and
+the native library with OCCT: its baseline), and with FreeCAD's Part besides. `bench --scale` is bench_scale.py.
 """
+import json
+import subprocess
+import sys
+import tempfile
 import os
 import statistics
 import time
@@ -103,6 +113,7 @@ def bench_loops(surface, hover_points=50, anchor_pairs=10, boundary="aligned"):
             two_failed += 1
         two.append((time.perf_counter() - start) * 1000.0)
     result["two_anchor_ms"] = {**summary(two), "no_loop": two_failed}
+    result["workspace_mb"] = round(session.native.workspace_bytes / 2**20, 1)
     return result
 
 
@@ -142,6 +153,7 @@ def bench_strips(surface, loop_session=None, strips=6, repeat=3, seed=3, session
         layout.append(raw["layout_ms"])
     result = session.strips_json()
     return {
+        "design_memory_mb": {k: round(v / 2**20, 2) for k, v in session.native.memory_bytes.items()},
         "design_strips": len(session.design.strips),
         "design_points_tried": tried,
         "singularities": len(result["singularities"]),
@@ -219,14 +231,53 @@ def bench_symmetry(surface, repeat=3):
                             "max_error": s["max_error"] / surface.bbox_diagonal} for s in found]}
 
 
-def run_bench(path, repeat=3, loops=True, strips=True, refit=True, **options):
-    """Every stage's figures; memory_mb gives the resident memory after each part and the
-    peak so far (MB), so what each part holds shows as the step between two entries."""
-    from .job import peak_memory_mb, resident_memory_mb
-    memory = {}
+# What the main job imports before it loads a model (the native library brings OCCT and CGAL):
+# the baseline of its memory; and the same with FreeCAD's Part, which the job needs only for
+# a model given as a FreeCAD shape.
+_IMPORTS = "from stripweave import cli, job, preview, surfacing; from stripweave._native import native"
+_FREECAD = "import FreeCAD, Part; " + _IMPORTS
+
+
+def _imports_mb(code, env, timeout_s):
+    """The resident memory of a Python that ran `code` alone (MB), None if it failed."""
+    p = subprocess.run([sys.executable, "-c", code + "; from stripweave.memory import resident_memory_mb; "
+                        "print(resident_memory_mb())"], capture_output=True, text=True, env=env, timeout=timeout_s)
+    return float(p.stdout.split()[-1]) if p.returncode == 0 and p.stdout.split() else None
+
+
+def job_memory(path, target_triangles=None, timeout_s=1800):
+    """The main job's memory, MB: `weave MODEL --auto --step` in a child process with stage
+    peaks (memory.py): {"stages": report.json's memory_mb, "peak": its peak, "imports": the
+    resident memory of a Python that imported what the job imports (the workbench and the
+    native library with OCCT) alone, "freecad_imports": the same with FreeCAD's Part}. An
+    error in the job gives {"error": its last line}."""
+    from .memory import STAGE_PEAKS_ENV
+    env = {**os.environ, STAGE_PEAKS_ENV: "1"}
+    imports = {"imports": _imports_mb(_IMPORTS, env, timeout_s), "freecad_imports": _imports_mb(_FREECAD, env, timeout_s)}
+    with tempfile.TemporaryDirectory() as out:
+        argv = [sys.executable, "-m", "stripweave.cli", "weave", os.fspath(path), "--auto", "--step", "--out", out]
+        if target_triangles is not None:
+            argv += ["--target-triangles", str(target_triangles)]
+        p = subprocess.run(argv, capture_output=True, text=True, env=env, timeout=timeout_s)
+        try:
+            with open(os.path.join(out, "report.json")) as f:
+                report = json.load(f)
+        except (OSError, ValueError):
+            lines = (p.stderr or p.stdout).strip().splitlines()
+            return {**imports, "error": lines[-1] if lines else f"exit status {p.returncode}"}
+    return {**imports, "peak": report["peak_memory_mb"], "stages": report["memory_mb"]}
+
+
+def run_bench(path, repeat=3, loops=True, strips=True, refit=True, job=False, **options):
+    """Every stage's figures; memory_mb gives the resident memory after each part, the peak so
+    far and the part's own peak (MB), so what each part holds shows as the step between two
+    entries' rss, and what it needs while it runs as the step to its stage_peak."""
+    from .memory import StageMemory
+    meter = StageMemory(stage_peaks=True)
+    memory = meter.stages
 
     def note(part):
-        memory[part] = {"rss": resident_memory_mb(), "peak": peak_memory_mb()}
+        meter.note(part)
 
     surface, result = bench_surface(path, repeat=repeat, **options)
     note("surface")
@@ -242,4 +293,6 @@ def run_bench(path, repeat=3, loops=True, strips=True, refit=True, **options):
                 result.update(bench_refit(sessions[0], repeat=repeat))
                 note("refit")
     result["memory_mb"] = memory
+    if job:
+        result["job"] = job_memory(path, target_triangles=options.get("target_triangles"))
     return result

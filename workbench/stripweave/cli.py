@@ -12,7 +12,7 @@
                     [--max-strips N] [--patches N] [--no-features] [--boundary aligned|trimmed] [--seed S]
                     [--time-limit S] [--symmetry auto|none|reflect:..|rotate:..] [--symmetry-tolerance F]
                                          the main job: (automatic) design, layout, report, preview.png
-    stripweave bench MODEL [--repeat N] [--no-refit]  stage timings and sizes (refit_s too), JSON
+    stripweave bench MODEL [--repeat N] [--no-refit] [--job]  stage timings, sizes and memory (refit_s too), JSON
     stripweave bench --scale [--sizes N,N,..] [--keep DIR] [--no-weave]
                                          large inputs: ingest against numpy, proxy, hover, weave, peak
                                          memory on a generated torus (bench_scale.py), JSON
@@ -186,7 +186,7 @@ def cmd_bench(args):
         raise _input_error("bench needs a MODEL (or --scale)")
     from .bench import run_bench
     print(json.dumps(run_bench(args.model, repeat=args.repeat, loops=not args.surface_only,
-                               refit=not args.no_refit, **_surface_options(args)), indent=2))
+                               refit=not args.no_refit, job=args.job, **_surface_options(args)), indent=2))
     return 0
 
 
@@ -381,6 +381,10 @@ def build_parser():
     p.add_argument("--json", action="store_true", help="accepted for symmetry: bench always prints JSON")
     p.add_argument("--surface-only", action="store_true", help="time the surface stage alone")
     p.add_argument("--no-refit", action="store_true", help="skip the surfacing stage (refit_s)")
+    p.add_argument("--job", action="store_true",
+                   help="also the main job's memory per stage: weave MODEL --auto --step in a child process "
+                        "(job.stages, job.peak; job.imports: Python with the job's imports alone, OCCT's included; "
+                        "job.freecad_imports: and FreeCAD's Part)")
     _add_surface_options(p)
     p.set_defaults(run=cmd_bench)
     return parser

@@ -12,7 +12,8 @@ quad layout, layout.compute_layout) -> files. With `out`, writes
     layout.json   regions, vertices, edges, patches (design.md)
     report.json   the keys of design.md, and input_triangles, solver_triangles,
                   corner_deviation_deg["p95"] and memory_mb {stage: {"rss", "peak"}}: the
-                  resident memory after each stage and the peak so far (README)
+                  resident memory after each stage and the peak so far, and with
+                  STRIPWEAVE_STAGE_PEAKS=1 each stage's own peak (memory.py, README)
     preview.png   the layout on the shaded model (preview.py)
     patches.step  with step=True, when the build has the surfacing stage
     deviation.png with step=True: the patches coloured by their fit's deviation (preview.py)
@@ -34,6 +35,7 @@ from ._native import native
 from .design import Design
 from .files import atomic_path, check_out_dir, out_lock, write_atomic
 from .layout import write_layout
+from .memory import StageMemory
 from .strips import DesignSession
 from .weave import WeaveOptions, auto_weave, red_regions, why_red
 
@@ -136,41 +138,6 @@ def _corner_deviation_p95(layout):
     return float(deviations[low] + (rank - low) * (deviations[high] - deviations[low]))
 
 
-def peak_memory_mb():
-    """Peak resident memory of this process (or of its largest child, if that was larger), in
-    MB: what the weave needed at its heaviest (Linux reports ru_maxrss in kB). Both are
-    maxima, so they are not added."""
-    import resource
-    kb = max(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss, resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)
-    return round(kb / 1024.0, 1)
-
-
-def _release_freed_memory(first=False):
-    """Hand the heap's free pages back to the system (glibc malloc_trim), so a stage's peak
-    does not stack on what earlier stages freed but malloc kept. `first`: also fix glibc's
-    mmap threshold at 1 MB: by default it grows to 32 MB after the first large free, and
-    every later large array (graph, factor, images) then comes from a heap that never
-    shrinks. Results do not change; elsewhere than glibc this does nothing."""
-    try:
-        import ctypes
-        libc = ctypes.CDLL("libc.so.6")
-        if first:
-            libc.mallopt(-3, 1 << 20)   # M_MMAP_THRESHOLD
-        libc.malloc_trim(0)
-    except (OSError, AttributeError):
-        pass
-
-
-def resident_memory_mb():
-    """This process's resident memory now, in MB (Linux /proc; 0 where there is none)."""
-    try:
-        with open("/proc/self/statm") as f:
-            pages = int(f.read().split()[1])
-    except (OSError, ValueError, IndexError):
-        return 0.0
-    return round(pages * os.sysconf("SC_PAGE_SIZE") / 2**20, 1)
-
-
 def _export_step(ds, tolerance, path):
     """Fit NURBS patches to the design's primal layout and write them as STEP (the surfacing
     stage). Returns the "fit" block of report.json (model units: design.md's two-sided
@@ -222,16 +189,14 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
                 reflections (symmetry.symmetric_surface)
     """
     timings = {}
-    memory = {}
-    _release_freed_memory(first=True)
+    memory = StageMemory()
     clock = time.perf_counter()
 
     def lap(stage):
         nonlocal clock
         now = time.perf_counter()
         timings[stage] = timings.get(stage, 0.0) + (now - clock) * 1000.0
-        _release_freed_memory()
-        memory[stage] = {"rss": resident_memory_mb(), "peak": peak_memory_mb()}
+        memory.note(stage)
         clock = now
 
     def say(text):
@@ -280,9 +245,18 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
                                              symmetry=tuple(symmetries), symmetry_tolerance=symmetry_tolerance,
                                              **weave_options))
         log, stopped, work, cancelled = result.log, result.stopped, result.work, result.cancelled_queries
+    # No loop query follows: the search scratch space (as large as g') goes back before the
+    # layout needs its memory.
+    loop_session.native.release_workspaces()
     lap("weave")
     say("primal layout")
     layout, details = _layout_of(ds)
+    # The design is derived and its layout computed: nothing after this needs g' (the files,
+    # the pictures and the fit read the strips' paths and the layout), which is some 100 MB
+    # at 30K triangles and would sit under the pictures' and the fit's peaks. (A build without
+    # the layout stage has no details: preview.png then embeds the loops again, on g'.)
+    if details is not None:
+        loop_session.native.release_graph()
     lap("layout")
     report = make_report(ds, layout, {})
     red_text = None
@@ -308,6 +282,7 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
         _keep_backup(design_path, paths["design"])
         ds.design.save(paths["design"])
         write_layout(layout, paths["layout"])
+        lap("files")
         if preview:
             say("rendering preview.png")
             from .preview import render_design
@@ -324,25 +299,27 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
                     raise native.InputError(f"cannot fit patches: the layout is not valid: {red_text}")
                 tol = tolerance if tolerance is not None else 1e-3 * report["bbox_diagonal"]
                 report["fit"], uncovered = _export_step(ds, tol, paths["step"])
+                lap("step")
                 if preview:
                     say("rendering deviation.png")
                     from .preview import render_deviation
                     paths["deviation"] = os.path.join(out, "deviation.png")
                     with atomic_path(paths["deviation"]) as tmp:
                         render_deviation(tmp, ds, report["fit"], details=details, uncovered=uncovered)
+                    lap("deviation")
             except native.InputError as exc:
                 # The design and its layout are still worth having: report.json says why
                 # there is no STEP, and the error names the folder.
                 report["fit"] = {"error": str(exc)}
                 del paths["step"]
                 step_error = native.InputError(f"{exc} (design, layout and report are in {out})")
-            lap("step")
+                lap("step")
     timings.update({f"strips_{k}": v for k, v in ds.timings_ms().items()})
     timings.update({f"layout_{k}": v for k, v in layout.get("timings_ms", {}).items()})
     timings["total"] = sum(v for k, v in timings.items() if "_" not in k)
     report["timings_ms"] = {k: round(float(v), 1) for k, v in timings.items()}
-    report["peak_memory_mb"] = peak_memory_mb()
-    report["memory_mb"] = memory
+    report["peak_memory_mb"] = memory.peak_mb()
+    report["memory_mb"] = memory.stages
     if out is not None:
         write_atomic(paths["report"], json.dumps(report, indent=2) + "\n")
     _locks.close()

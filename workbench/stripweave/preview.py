@@ -236,15 +236,19 @@ def draw_lines(image, depth, project, polylines, colour, width_px=1.5, offset=0.
         image[y[visible], x[visible]] = colour
 
 
-def draw_hatch(image, tri_img, marked, colour, period, width):
+def draw_hatch(image, tri_img, marked, colour, period, width, row0=0):
     """Diagonal screen-space lines over the pixels of marked triangles: a pattern that follows
-    no surface direction, so it cannot be taken for a strip's stripes."""
+    no surface direction, so it cannot be taken for a strip's stripes. `row0`: the image's
+    first row in the whole view (a band, render_view), where the pattern is anchored."""
     H, W = image.shape[:2]
-    y, x = np.mgrid[0:H, 0:W]
-    t = tri_img.reshape(H, W)
-    on = (t >= 0) & ((x + y) % period < width)
-    on[on] = marked[t[on]]
-    image[on] = colour
+    # Only the marked triangles' pixels are looked at (full-image index grids would be tens
+    # of MB on a supersampled view).
+    t = tri_img.reshape(-1)
+    pixel = np.flatnonzero(t >= 0)
+    pixel = pixel[marked[t[pixel]]]
+    y, x = np.divmod(pixel, W)
+    on = (x + y + row0) % period < width
+    image[y[on], x[on]] = colour
 
 
 def draw_rings(image, depth, project, points, colour, radius, width, offset):
@@ -281,7 +285,8 @@ def shade(tri_img, bary, vertices, triangles, normals, light, stripes, tints, st
 @dataclass
 class Scene:
     """What a view draws, in model units: the mesh (per vertex normals), per strip its stripe
-    coordinates (shade.h), per triangle a tint (NaN rows: none) and a defect hatch (bool),
+    coordinates (shade.h: (triangles, 3, 2), or the coordinate across alone, (triangles, 3)),
+    per triangle a tint (NaN rows: none) and a defect hatch (bool),
     lines (patch edges, dark and wide), thin lines (loops, light, in their strip's hue) and
     points ringed as defective vertices."""
     vertices: np.ndarray
@@ -296,6 +301,16 @@ class Scene:
     stripe_period: float = None
 
 
+# A view is rasterized, shaded and marked in horizontal bands, one at a time: a whole
+# supersampled view's raster and shaded pixels were some 80 MB at once (issue 22). Each band is
+# drawn with BAND_MARGIN extra rows above and below (supersampled pixels), more than any mark
+# reaches (a ring's radius, a wide line's stamp), so every pixel of the band comes out as in
+# the whole view: the raster and the shading are per pixel, and a mark that reaches into the
+# band is drawn in it, its depth test made at the same pixel.
+BANDS = 2
+BAND_MARGIN = 24
+
+
 def render_view(scene, view, width, height, supersample=2, up=UP):
     """One view of the scene as a float RGB image (height, width, 3), `up` up."""
     vertices = np.asarray(scene.vertices, float)
@@ -305,23 +320,42 @@ def render_view(scene, view, width, height, supersample=2, up=UP):
     right, image_up, eye = image_axes(view, up)
     light = eye - 0.45 * right + 0.7 * image_up
     light /= np.linalg.norm(light)
-    tri_img, bary, depth = rasterize(project(vertices), scene.triangles, W, H)
     diag = np.linalg.norm(vertices.max(0) - vertices.min(0))
     period = scene.stripe_period or diag / 55.0   # sparser than the solver could draw: a texture, not a grid
-    img = shade(tri_img, bary, vertices, scene.triangles, scene.normals, light, scene.stripes, scene.tints, period)
-    img = img.reshape(H, W, 3)
-    if scene.hatch is not None and np.any(scene.hatch):
-        draw_hatch(img, tri_img, np.asarray(scene.hatch, bool), MARK, period=9 * ss, width=2 * ss)
     offset = 2.5 * span * ss + 1e-3 * diag   # lines on the surface win against it
+    step = -(-H // (BANDS * ss)) * ss          # whole ss x ss blocks per band
+    out = []
+    for y0 in range(0, H, step):
+        y1 = min(H, y0 + step)
+        top, bottom = max(0, y0 - BAND_MARGIN), min(H, y1 + BAND_MARGIN)
+        img = _render_rows(scene, project, top, bottom, W, light, period, offset, ss)[y0 - top:y1 - top]
+        if ss > 1:   # the mean of each ss x ss block, as slices (a reshaped mean is several times slower)
+            img = sum(img[i::ss, j::ss] for i in range(ss) for j in range(ss)) / (ss * ss)
+        out.append(img)
+    return np.concatenate(out)
+
+
+def _render_rows(scene, project, top, bottom, W, light, period, offset, ss):
+    """Rows top..bottom-1 of a view (supersampled pixels): shaded, with the hatch, the lines
+    and the rings."""
+    shift = np.array([0.0, float(top), 0.0])   # whole pixels: the shifted positions are exact
+
+    def rows_project(p):
+        return project(p) - shift
+    vertices = np.asarray(scene.vertices, float)
+    tri_img, bary, depth = rasterize(rows_project(vertices), scene.triangles, W, bottom - top)
+    img = shade(tri_img, bary, vertices, scene.triangles, scene.normals, light, scene.stripes, scene.tints, period)
+    del bary   # 24 bytes a pixel, not needed for the marks
+    img = img.reshape(bottom - top, W, 3)
+    if scene.hatch is not None and np.any(scene.hatch):
+        draw_hatch(img, tri_img, np.asarray(scene.hatch, bool), MARK, period=9 * ss, width=2 * ss, row0=top)
     # Loops in their strip's hue, light, under the patch edges, which are drawn last and widest.
     for i, line in enumerate(scene.thin_lines):
         hue = 0.5 * HUES[i % len(HUES)] + 0.5 * BASE
-        draw_lines(img, depth, project, [line], hue, width_px=1.0 * ss, offset=offset)
-    draw_lines(img, depth, project, scene.lines, EDGE, width_px=3.2 * ss, offset=offset)
+        draw_lines(img, depth, rows_project, [line], hue, width_px=1.0 * ss, offset=offset)
+    draw_lines(img, depth, rows_project, scene.lines, EDGE, width_px=3.2 * ss, offset=offset)
     if scene.rings is not None and len(scene.rings):
-        draw_rings(img, depth, project, scene.rings, MARK, radius=7.5 * ss, width=2.5 * ss, offset=offset)
-    if ss > 1:   # the mean of each ss x ss block, as slices (a reshaped mean is several times slower)
-        img = sum(img[i::ss, j::ss] for i in range(ss) for j in range(ss)) / (ss * ss)
+        draw_rings(img, depth, rows_project, scene.rings, MARK, radius=7.5 * ss, width=2.5 * ss, offset=offset)
     return img
 
 
@@ -427,7 +461,8 @@ def _direction(d):
 def compose(views, legend_items, colour_bar=None):
     """The picture (HEIGHT, WIDTH, 3 uint8): the two views (label, image) side by side, over the
     legend band (the colour bar on its left when given, then the items)."""
-    canvas = np.ones((HEIGHT, WIDTH, 3)) * BACKGROUND / 255.0
+    canvas = np.empty((HEIGHT, WIDTH, 3))
+    canvas[:] = BACKGROUND / 255.0
     ph, pw = HEIGHT - LEGEND_H, WIDTH // 2
     for i, (label, img) in enumerate(views):
         canvas[:ph, i * pw:(i + 1) * pw] = img
@@ -439,7 +474,9 @@ def compose(views, legend_items, colour_bar=None):
         draw_colour_bar(canvas, colour_bar, x, y)
         x = 480
     draw_legend(canvas, legend_items, x, y, WIDTH - 8)
-    return np.clip(canvas * 255 + 0.5, 0, 255).astype(np.uint8)
+    canvas *= 255    # in place: the canvas is 19 MB of doubles
+    canvas += 0.5
+    return np.clip(canvas, 0, 255, out=canvas).astype(np.uint8)
 
 
 def write_png(path, image):
@@ -546,6 +583,13 @@ def design_legend(layout):
     return items
 
 
+def _across(coordinates, triangle_count):
+    """A strip's coordinate across per triangle corner (triangles, 3), NaN outside it."""
+    if len(coordinates) != triangle_count:
+        return np.full((triangle_count, 3), np.nan)
+    return np.ascontiguousarray(coordinates[:, :, 1])
+
+
 def render_design(path, ds, layout=None, regions=None, **kw):
     """The preview of a DesignSession: its strips' stripes, the region colours (from `regions`,
     native.regions(..., details=True) or the layout's details, or computed here), the layout's
@@ -565,9 +609,9 @@ def render_design(path, ds, layout=None, regions=None, **kw):
         for name, rgb in TINTS.items():
             hit = np.array([c == name for c in colour] + [False])[np.where(reg < 0, len(colour), reg)]
             tints[parent[hit]] = rgb
-    stripes = [ds.native.strip_coordinates(i) for i in range(ds.native.strip_count)]
-    # A strip the extraction found empty has no coordinates: it shows as its loop only.
-    stripes = [c if len(c) == len(s.triangles) else np.full((len(s.triangles), 3, 2), np.nan) for c in stripes]
+    # A strip the extraction found empty has no coordinates: it shows as its loop only. The
+    # shader reads the coordinate across alone (half the memory of both, per strip).
+    stripes = [_across(ds.native.strip_coordinates(i), len(s.triangles)) for i in range(ds.native.strip_count)]
     loops = [st["points"] for st in ds.strips()]
     edges = [e["points"] for e in (layout or {}).get("edges", [])]
     hatch, rings = defect_marks(layout, regions, len(s.triangles))

@@ -4,8 +4,9 @@
 
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
-#include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+
+#include <boost/iterator/counting_iterator.hpp>
 
 namespace stripweave {
 
@@ -13,22 +14,42 @@ namespace {
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point = Kernel::Point_3;
 using Triangle = Kernel::Triangle_3;
-using TriangleIterator = std::vector<Triangle>::const_iterator;
-using Primitive = CGAL::AABB_triangle_primitive<Kernel, TriangleIterator>;
-using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
 
 Point to_point(const Vec3& p) { return Point(p.x(), p.y(), p.z()); }
+
+// A mesh triangle by its index (CGAL's AABBPrimitiveWithSharedData): the tree
+// takes its geometry from the mesh when it needs it. CGAL's triangle primitive
+// needs a copy of every triangle (72 bytes each, a third of the tree's memory:
+// the fit's deviation locates on a tessellation of a million triangles and
+// more); the triangles, their boxes and reference points (the first corner,
+// as that primitive's) are the same numbers, so the tree and its answers are.
+struct MeshTriangle {
+  using Id = Index;
+  using Datum = Triangle;
+  using Point = Kernel::Point_3;
+  using Shared_data = const TriangleMesh*;
+
+  MeshTriangle() = default;
+  MeshTriangle(boost::counting_iterator<Index> it, const TriangleMesh*) : id_(*it) {}
+  static Shared_data construct_shared_data(const TriangleMesh* mesh) { return mesh; }
+  Id id() const { return id_; }
+  Datum datum(Shared_data mesh) const {
+    const Tri& t = mesh->triangles[id_];
+    return Triangle(to_point(mesh->positions[t[0]]), to_point(mesh->positions[t[1]]), to_point(mesh->positions[t[2]]));
+  }
+  Point reference_point(Shared_data mesh) const { return to_point(mesh->positions[mesh->triangles[id_][0]]); }
+
+ private:
+  Index id_ = kInvalid;
+};
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, MeshTriangle>>;
 }  // namespace
 
 struct SurfaceLocator::Impl {
   const TriangleMesh& mesh;
-  std::vector<Triangle> triangles;  // the tree refers to these by iterator
   Tree tree;
   explicit Impl(const TriangleMesh& m) : mesh(m) {
-    triangles.reserve(m.triangles.size());
-    for (const Tri& t : m.triangles)
-      triangles.emplace_back(to_point(m.positions[t[0]]), to_point(m.positions[t[1]]), to_point(m.positions[t[2]]));
-    tree.insert(triangles.begin(), triangles.end());
+    tree.insert(boost::counting_iterator<Index>(0), boost::counting_iterator<Index>(m.num_triangles()), &mesh);
     tree.accelerate_distance_queries();
   }
 };
@@ -51,15 +72,14 @@ void check_query(const Vec3& p) {
 SurfacePoint3 SurfaceLocator::closest(const Vec3& p) const {
   check_query(p);
   const auto [q, primitive] = impl_->tree.closest_point_and_primitive(to_point(p));
-  return answer(p, Vec3(q.x(), q.y(), q.z()), static_cast<Index>(primitive - impl_->triangles.cbegin()));
+  return answer(p, Vec3(q.x(), q.y(), q.z()), primitive);
 }
 
 SurfacePoint3 SurfaceLocator::closest(const Vec3& p, const SurfacePoint3& hint) const {
   if (hint.triangle == kInvalid) return closest(p);
   check_query(p);
-  const auto [q, primitive] =
-      impl_->tree.closest_point_and_primitive(to_point(p), {to_point(hint.point), impl_->triangles.cbegin() + hint.triangle});
-  return answer(p, Vec3(q.x(), q.y(), q.z()), static_cast<Index>(primitive - impl_->triangles.cbegin()));
+  const auto [q, primitive] = impl_->tree.closest_point_and_primitive(to_point(p), {to_point(hint.point), hint.triangle});
+  return answer(p, Vec3(q.x(), q.y(), q.z()), primitive);
 }
 
 SurfacePoint3 SurfaceLocator::answer(const Vec3& p, const Vec3& q, Index triangle) const {

@@ -34,12 +34,41 @@ void LoopSession::set_threads(int threads) {
   workspaces_.resize(std::max(1, threads));
 }
 
+std::size_t LoopSession::workspace_bytes() const {
+  std::lock_guard<std::mutex> lock(query_mutex_);  // after a running query
+  std::size_t bytes = 0;
+  for (const SearchWorkspaces& w : workspaces_) bytes += w.memory_bytes();
+  return bytes;
+}
+
+void LoopSession::release_workspaces() {
+  ++generation_;
+  std::lock_guard<std::mutex> lock(query_mutex_);
+  for (SearchWorkspaces& w : workspaces_) w.release();
+}
+
+void LoopSession::release_graph() {
+  ++generation_;
+  std::lock_guard<std::mutex> lock(query_mutex_);
+  graph_released_ = true;
+  graph_ = ElasticaGraph{};
+  tables_ = LoopTables{};
+  for (SearchWorkspaces& w : workspaces_) w.release();
+  std::vector<std::uint8_t>().swap(disabled_);
+  mask_symmetric_ = true;
+}
+
+void LoopSession::check_graph() const {
+  if (graph_released_) throw InputError("the loop engine's graph was released (the job was done with loop queries)");
+}
+
 template <typename F>
 auto LoopSession::run_query(F&& query) {
   // Announce the new query first, so a running one sees its generation change
   // and gives up; then wait for the scratch space.
   const std::uint64_t mine = ++generation_;
   std::lock_guard<std::mutex> lock(query_mutex_);
+  check_graph();
   if (generation_.load() != mine) throw Cancelled();
   query_limited_ = false;
   std::atomic<std::uint64_t> polls{0};
@@ -88,16 +117,21 @@ Loop LoopSession::best_loop(const Vec3& point, bool allow_open) {
 }
 
 ResolvedAnchor LoopSession::resolve(const Anchor& anchor, int index) {
+  check_graph();
   SearchContext ctx{*surface_, graph_, disabled_, nullptr};
   return resolve_anchor(ctx, *locator_, anchor, max_anchor_distance, index);
 }
 
-SurfacePath LoopSession::embed(const Loop& loop) const { return embed_path(*surface_, graph_, loop.nodes, loop.closed); }
+SurfacePath LoopSession::embed(const Loop& loop) const {
+  check_graph();
+  return embed_path(*surface_, graph_, loop.nodes, loop.closed);
+}
 
 // Changing the mask makes a running query stale: cancel it, then change.
 void LoopSession::set_disabled(const std::vector<Index>& nodes, bool disabled) {
   ++generation_;
   std::lock_guard<std::mutex> lock(query_mutex_);
+  check_graph();
   if (disabled_.empty()) disabled_.assign(graph_.num_nodes(), 0);
   for (Index n : nodes) {
     if (n < 0 || n >= graph_.num_nodes()) throw InputError("node id " + std::to_string(n) + " is not in the graph");

@@ -29,7 +29,11 @@ class LoopSession {
   ~LoopSession();
 
   const Surface& surface() const { return *surface_; }
-  const ElasticaGraph& graph() const { return graph_; }
+  // InputError once the graph is released (release_graph).
+  const ElasticaGraph& graph() const {
+    check_graph();
+    return graph_;
+  }
   double build_ms() const { return build_ms_; }
 
   // Anchors farther than this from the surface are an error (normalized units).
@@ -38,6 +42,21 @@ class LoopSession {
   // Threads a query may use (the machines have two cores).
   void set_threads(int threads);
   int threads() const { return static_cast<int>(workspaces_.size()); }
+  // The search scratch space: 20 bytes per g' node and workspace, two
+  // workspaces per thread (bidirectional), allocated by the first query and
+  // kept for the next (on 30K triangles some 70 MB, as much as g' itself).
+  std::size_t workspace_bytes() const;
+  // Free it (a running query is cancelled first): a job done with queries
+  // keeps the graph alone. The next query allocates it again; results do
+  // not change.
+  void release_workspaces();
+  // Free g' with everything built on it (search tables, scratch space, mask):
+  // a job done with loop queries keeps the derived design (paths, strips),
+  // and the layout, pictures and fit need nothing of the graph. Every later
+  // use of the graph (a query, an embedding, a mask, graph()) raises
+  // InputError; the session is not rebuilt.
+  void release_graph();
+  bool graph_released() const { return graph_released_; }
 
   // The loops through the anchors, cheapest first, at most `count` distinct.
   std::vector<Loop> loops(const std::vector<Anchor>& anchors, int count, bool allow_open = true);
@@ -71,6 +90,8 @@ class LoopSession {
  private:
   template <typename F>
   auto run_query(F&& query);
+  void check_graph() const;
+  std::atomic<bool> graph_released_{false};
 
   std::shared_ptr<const Surface> surface_;
   ElasticaGraph graph_;
@@ -79,7 +100,7 @@ class LoopSession {
   std::vector<std::uint8_t> disabled_;
   bool mask_symmetric_ = true;
   std::vector<SearchWorkspaces> workspaces_;  // one per search thread
-  std::mutex query_mutex_;
+  mutable std::mutex query_mutex_;
   std::atomic<std::uint64_t> generation_{0};
   std::atomic<bool> query_limited_{false};
   std::atomic<std::uint64_t> last_query_polls_{0};

@@ -33,6 +33,18 @@ std::vector<Index> trace_back(const SearchWorkspace& ws, Index from, Index sourc
 
 }  // namespace
 
+std::size_t SearchWorkspaces::memory_bytes() const {
+  std::size_t bytes = forward.memory_bytes() + backward.memory_bytes();
+  for (const SearchWorkspace& w : layers) bytes += w.memory_bytes();
+  return bytes;
+}
+
+void SearchWorkspaces::release() {
+  forward.release();
+  backward.release();
+  std::vector<SearchWorkspace>().swap(layers);
+}
+
 void SearchWorkspace::prepare(Index nodes) {
   if (static_cast<Index>(slot_.size()) != nodes) {
     slot_.assign(nodes, Slot{kUnreachable, 0, 0});

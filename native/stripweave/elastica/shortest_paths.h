@@ -64,6 +64,14 @@ class SearchWorkspace {
     return true;
   }
   std::size_t settled = 0;  // statistics of the last search
+  // Heap bytes held (20 per g' node once prepared).
+  std::size_t memory_bytes() const { return slot_.capacity() * sizeof(Slot) + pred_.capacity() * sizeof(Index); }
+  // Free the scratch space; the next prepare() allocates it again.
+  void release() {
+    std::vector<Slot>().swap(slot_);
+    std::vector<Index>().swap(pred_);
+    epoch_ = 0;
+  }
 
  private:
   struct Slot {
@@ -80,6 +88,8 @@ class SearchWorkspace {
 struct SearchWorkspaces {
   SearchWorkspace forward, backward;
   std::vector<SearchWorkspace> layers;
+  std::size_t memory_bytes() const;
+  void release();
 };
 
 struct SearchContext {

@@ -34,6 +34,15 @@ struct Raster {
   std::vector<double> depth;                 // per pixel, +infinity for none
 };
 
+// A raster's per-pixel arrays, read where they lie (the shader reads the
+// caller's buffers: a copy of a supersampled view's raster is tens of MB).
+struct RasterPixels {
+  const Index* triangle = nullptr;
+  const std::array<double, 3>* bary = nullptr;
+  std::size_t count = 0;
+};
+inline RasterPixels pixels_of(const Raster& r) { return {r.triangle.data(), r.bary.data(), r.triangle.size()}; }
+
 Raster rasterize(const std::vector<Vec3>& screen, const std::vector<Tri>& triangles, int width,
                  int height);
 

@@ -7,7 +7,7 @@
 
 namespace stripweave {
 
-std::vector<Vec3> shade(const Raster& raster, const std::vector<Vec3>& vertices, const std::vector<Tri>& triangles,
+std::vector<Vec3> shade(const RasterPixels& raster, const std::vector<Vec3>& vertices, const std::vector<Tri>& triangles,
                         const std::vector<Vec3>& normals, const ShadeLook& look) {
   // Per triangle its own unit normal (the same numbers per pixel, once).
   std::vector<Vec3> face(triangles.size());
@@ -16,8 +16,8 @@ std::vector<Vec3> shade(const Raster& raster, const std::vector<Vec3>& vertices,
     const Vec3 n = (vertices[f[1]] - vertices[f[0]]).cross(vertices[f[2]] - vertices[f[0]]);
     face[t] = n / std::max(n.norm(), 1e-30);
   }
-  std::vector<Vec3> out(raster.triangle.size(), look.background);
-  for (size_t p = 0; p < raster.triangle.size(); ++p) {
+  std::vector<Vec3> out(raster.count, look.background);
+  for (size_t p = 0; p < raster.count; ++p) {
     const Index t = raster.triangle[p];
     if (t < 0) continue;
     const Tri& f = triangles[t];

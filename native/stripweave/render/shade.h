@@ -1,7 +1,7 @@
 // Shading the preview pictures' pixels (issue 6).
 //
 // shade(raster, mesh, normals, look) -> per pixel RGB in [0, 1]
-//   Input : a Raster (rasterize.h) of the mesh; per vertex normals; what to
+//   Input : a raster of the mesh (its pixels: RasterPixels, rasterize.h); per vertex normals; what to
 //           draw (ShadeLook): the light direction, the base colour, per
 //           triangle a tint (NaN where none), per strip its stripe
 //           coordinates (per triangle corner, the coordinate across the
@@ -42,7 +42,12 @@ struct ShadeLook {
   double stripe_strength = 0.6;             // in [0, 1]: the stripe line's share of the colour
 };
 
-std::vector<Vec3> shade(const Raster& raster, const std::vector<Vec3>& vertices, const std::vector<Tri>& triangles,
+std::vector<Vec3> shade(const RasterPixels& raster, const std::vector<Vec3>& vertices, const std::vector<Tri>& triangles,
                         const std::vector<Vec3>& normals, const ShadeLook& look);
+inline std::vector<Vec3> shade(const Raster& raster, const std::vector<Vec3>& vertices,
+                               const std::vector<Tri>& triangles, const std::vector<Vec3>& normals,
+                               const ShadeLook& look) {
+  return shade(pixels_of(raster), vertices, triangles, normals, look);
+}
 
 }  // namespace stripweave

@@ -13,10 +13,10 @@ std::vector<Index> incompatible_nodes(const Surface& surface, const ElasticaGrap
   // Per vertex, the least |across| of the strip there.
   std::vector<double> across(surface.mesh.num_vertices(), std::numeric_limits<double>::infinity());
   if (std::isfinite(band)) {
-    for (Index t : strip.triangles)
+    for (size_t k = 0; k < strip.triangles.size(); ++k)
       for (int i = 0; i < 3; ++i) {
-        double& a = across[surface.mesh.triangles[t][i]];
-        a = std::min(a, std::abs(strip.coords[t][i].y()));
+        double& a = across[surface.mesh.triangles[strip.triangles[k]][i]];
+        a = std::min(a, std::abs(strip.coords[k][i].y()));
       }
   }
   std::vector<Index> nodes;

@@ -49,6 +49,52 @@ DesignState::Solved DesignState::solve(const std::vector<LoopPath>& paths, Desig
   return out;
 }
 
+namespace {
+
+template <class T>
+std::size_t bytes(const std::vector<T>& v) {
+  return v.capacity() * sizeof(T);
+}
+template <class T>
+std::size_t bytes(const std::vector<std::vector<T>>& v) {
+  std::size_t b = v.capacity() * sizeof(std::vector<T>);
+  for (const auto& x : v) b += bytes(x);
+  return b;
+}
+
+std::size_t bytes(const std::vector<DesignStrip>& strips) {
+  std::size_t b = bytes<DesignStrip>(strips);
+  for (const DesignStrip& d : strips) {
+    const SurfacePath& p = d.path.path;
+    b += bytes(d.spec.anchors) + bytes(d.loop.nodes) + bytes(p.points) + bytes(p.vertex) + bytes(p.edge) +
+         bytes(p.t) + bytes(p.node_start) + bytes(d.path.segments);
+    b += bytes(d.strip.covered) + bytes(d.strip.triangles) + bytes(d.strip.coords) + bytes(d.strip.isocurve);
+  }
+  return b;
+}
+
+std::size_t bytes(const CrossField& f) {
+  return bytes(f.frame_x) + bytes(f.normal) + bytes(f.theta) + bytes(f.direction) + bytes(f.strength) +
+         bytes(f.constrained) + bytes(f.rho) + bytes(f.matching) + bytes(f.singularities);
+}
+
+std::size_t bytes(const Parameterization& p) {
+  return bytes(p.uv) + bytes(p.comb) + bytes(p.transition) + bytes(p.on_cut) + bytes(p.loop_axis) +
+         bytes(p.loop_value) + bytes(p.flipped) + bytes(p.cut_ends) + bytes(p.loop_points_uv);
+}
+
+}  // namespace
+
+DesignState::MemoryBytes DesignState::memory_bytes() const {
+  MemoryBytes m;
+  m.strips = bytes(strips_);
+  m.field = bytes(field_);
+  m.param = bytes(param_);
+  m.mask = bytes(mask_);
+  m.previous = bytes(previous_.strips) + bytes(previous_.field) + bytes(previous_.param) + bytes(previous_.mask);
+  return m;
+}
+
 void DesignState::swap_derived(Derived& d) {
   std::swap(strips_, d.strips);
   std::swap(field_, d.field);
@@ -58,6 +104,9 @@ void DesignState::swap_derived(Derived& d) {
 }
 
 void DesignState::set_strips(const std::vector<StripSpec>& specs) {
+  // A session whose graph was released (LoopSession::release_graph) can derive
+  // nothing: refused before anything derived is touched.
+  session_->graph();
   // Back to the design before the last edit (a rejected strip removed): swap
   // the kept state back in, and keep the edited one in its place (redo).
   if (previous_.valid && specs.size() == previous_.strips.size() &&
@@ -69,14 +118,27 @@ void DesignState::set_strips(const std::vector<StripSpec>& specs) {
   }
   bool same = specs.size() == strips_.size();
   for (size_t i = 0; same && i < specs.size(); ++i) same = specs[i] == strips_[i].spec;
-  if (!same) {
-    // The state before this edit, for going back to it (copied: the edit keeps its prefix).
-    previous_ = Derived{strips_, field_, param_, timings_, mask_, true};
-  }
   // Keep the unchanged prefix: its loops and masks do not depend on later strips.
   size_t keep = 0;
   while (keep < specs.size() && keep < strips_.size() && specs[keep] == strips_[keep].spec) ++keep;
   const size_t derived = strips_.size();  // mask_ is the mask of these strips (finish())
+  if (!same) {
+    // The state before this edit, for going back to it. Moved, not copied: finish()
+    // replaces the field, S and every strip's extraction anyway, so the edit keeps of
+    // its prefix only the anchors, loops and paths (a copy of the extractions, each
+    // some 50 bytes per surface triangle, was a third full design during the solve).
+    previous_ = Derived{std::move(strips_), std::move(field_), std::move(param_), timings_, mask_, true};
+    strips_.clear();
+    field_ = {};
+    param_ = {};
+    for (size_t i = 0; i < keep; ++i) {
+      DesignStrip d;
+      d.spec = previous_.strips[i].spec;
+      d.loop = previous_.strips[i].loop;
+      d.path = previous_.strips[i].path;
+      strips_.push_back(std::move(d));
+    }
+  }
   strips_.resize(keep);
 
   double loops_ms = 0;

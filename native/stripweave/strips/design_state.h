@@ -75,6 +75,14 @@ class DesignState {
   // Hand that mask to the session (replacing its mask), for new loops.
   void apply_mask();
 
+  // Heap bytes of the derived state (strips with their loops, paths and
+  // extraction; cross field; parameterization; mask), now and as kept from
+  // before the last edit: what a design holds beside the loop engine.
+  struct MemoryBytes {
+    std::size_t strips = 0, field = 0, param = 0, mask = 0, previous = 0;
+  };
+  MemoryBytes memory_bytes() const;
+
   LoopSession& session() { return *session_; }
   const LoopSession& session() const { return *session_; }
   const Surface& surface() const { return session_->surface(); }

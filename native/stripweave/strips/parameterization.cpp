@@ -450,8 +450,11 @@ Parameterization parameterize(const Surface& surface, const CrossField& field, c
     for (int i = 0; i < rows[c].n; ++i) put(n_primal + c, rows[c].var[i], rows[c].coef[i]);
     put(n_primal + c, n_primal + c, -kRegularization);
   }
+  // The triplets go before the factorization, the peak of the solve: some 17 MB at 30K triangles.
+  std::vector<Triplet>().swap(h);
   SparseMatrix K(N, N);
   K.setFromTriplets(kkt.begin(), kkt.end());
+  std::vector<Triplet>().swap(kkt);
   Eigen::VectorXd b(N);
   for (Index i = 0; i < N; ++i) b[position[i]] = rhs[i];
   lap("KKT system");

@@ -103,7 +103,6 @@ Strip extract_strip(const Surface& s, const CrossField& field, const Parameteriz
   // of the loop); side = the sign of across at the centroid.
   Strip strip;
   strip.covered.assign(nt, 0);
-  strip.coords.assign(nt, {Vec2::Zero(), Vec2::Zero(), Vec2::Zero()});
   std::vector<std::uint8_t> claimed(nt, 0);
   std::vector<int> claimed_side(nt, 0);
   std::vector<double> centroid_across(nt, 0);
@@ -148,7 +147,7 @@ Strip extract_strip(const Surface& s, const CrossField& field, const Parameteriz
     claimed_side[t] = side;
     centroid_across[t] = mid;
     map[t] = top.map;
-    strip.coords[t] = c;
+    strip.coords.push_back(c);
     strip.triangles.push_back(t);
     reach[side] = std::max(reach[side], std::abs(mid));
 
@@ -196,23 +195,32 @@ Strip extract_strip(const Surface& s, const CrossField& field, const Parameteriz
   }
   double covered_area = 0;
   std::vector<Index> kept;
-  for (Index t : strip.triangles) {
+  std::vector<std::array<Vec2, 3>> kept_coords;
+  kept.reserve(strip.triangles.size());
+  kept_coords.reserve(strip.triangles.size());
+  for (size_t k = 0; k < strip.triangles.size(); ++k) {
+    const Index t = strip.triangles[k];
     const int side = claimed_side[t];
     const double width = std::isfinite(bound[side]) ? bound[side] : kInf;
     if (std::abs(centroid_across[t]) > width) continue;
     strip.covered[t] = 1;
     kept.push_back(t);
+    kept_coords.push_back(strip.coords[k]);
     covered_area += area[t];
   }
   strip.triangles = std::move(kept);
+  strip.coords = std::move(kept_coords);
+  strip.triangles.shrink_to_fit();  // a design keeps every strip twice (DesignState)
+  strip.coords.shrink_to_fit();
   strip.area_fraction = total_area > 0 ? covered_area / total_area : 0;
 
   // Isocurve tangents: the along-gradient, averaged over the strip's
   // triangles around each vertex, in the vertex's tangent plane.
   strip.isocurve.assign(mesh.num_vertices(), Vec3::Zero());
-  for (Index t : strip.triangles) {
+  for (size_t k = 0; k < strip.triangles.size(); ++k) {
+    const Index t = strip.triangles[k];
     const Tri& f = mesh.triangles[t];
-    const auto& c = strip.coords[t];
+    const auto& c = strip.coords[k];
     Vec3 g = gradient(mesh.positions[f[0]], mesh.positions[f[1]], mesh.positions[f[2]], c[0].x(), c[1].x(), c[2].x());
     if (g.norm() == 0) continue;
     g.normalize();
@@ -225,11 +233,9 @@ Strip extract_strip(const Surface& s, const CrossField& field, const Parameteriz
     const double n = d.norm();
     d = n > 0 ? Vec3(d / n) : Vec3::Zero();
   }
-  for (Index t = 0; t < nt; ++t)
-    if (!strip.covered[t]) strip.coords[t] = {Vec2::Zero(), Vec2::Zero(), Vec2::Zero()};
   // Strip coordinates in model units.
-  for (Index t : strip.triangles)
-    for (Vec2& c : strip.coords[t]) c *= s.similarity.scale;
+  for (auto& corners : strip.coords)
+    for (Vec2& c : corners) c *= s.similarity.scale;
   return strip;
 }
 

@@ -17,8 +17,10 @@
 //   Output:
 //     covered[t]      1 if triangle t belongs to the strip
 //     triangles       the covered triangles, in conquest order
-//     coords[t][i]    strip coordinates (along, across) of corner i of a
-//                     covered triangle, model units: across is the
+//     coords[k][i]    strip coordinates (along, across) of corner i of the
+//                     covered triangle triangles[k] (one entry per covered
+//                     triangle, not per surface triangle: a design keeps
+//                     every strip twice, DesignState), model units: across is the
 //                     signed distance from the loop, positive on its left
 //                     (normal x direction of travel); along grows with the
 //                     loop's direction of travel (on a closed loop it jumps
@@ -40,7 +42,7 @@ namespace stripweave {
 struct Strip {
   std::vector<std::uint8_t> covered;
   std::vector<Index> triangles;
-  std::vector<std::array<Vec2, 3>> coords;
+  std::vector<std::array<Vec2, 3>> coords;  // parallel to triangles
   std::vector<Vec3> isocurve;
   double width_left = 0, width_right = 0;
   std::string stop_left, stop_right;  // "singularity", "fold-over", "boundary", "wrap", "surface"

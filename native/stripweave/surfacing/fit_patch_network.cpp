@@ -692,6 +692,12 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
     if (!uses[e].empty()) report.max_edge_deviation = std::max(report.max_edge_deviation, edge_dev[e]);
   watch.lap("report");
   checkpoint("measuring the deviation both ways", 0.62, 0.9);
+  // The fit's own samples and per-thread projectors are done with: freed before the
+  // deviation builds its tessellations and trees, the peak of the surfacing stage.
+  std::vector<PatchSamples>().swap(samples);
+  std::vector<PatchSamples>().swap(fit_samples);
+  std::vector<EdgeSamples>().swap(edge_samples);
+  worker_projectors.clear();
   report_deviation(surface, result.surfaces, options, report);
   watch.lap("deviation");
   checkpoint("measuring the seams", 0.9, 0.93);
