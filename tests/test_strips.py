@@ -409,3 +409,30 @@ def test_a_wider_compatibility_angle_refuses_more_directions(torus_meridian, tor
         with pytest.raises(sw.InputError, match="compatibility_angle_deg"):
             Design.from_dict({"format": "stripweave-design", "version": 1, "strips": [],
                               "options": {"compatibility_angle_deg": bad}})
+
+
+@pytest.mark.parametrize("failing", [1, 2])
+def test_a_failing_solve_leaves_every_kept_strip_derived(failing):
+    """A solve can fail numerically (bug32596_abc_0_13: a zero pivot in the KKT factorization,
+    a std::runtime_error, not an InputError), which set_strips let escape with the new strip
+    kept but never extracted: reading it indexed an empty coverage and killed the process.
+    Now any failure of the final solve ends as an InputError naming the strip, with the strips
+    before it fully derived (failing = 1), or with none when their solve fails too (2); and
+    the design works on afterwards (DesignSession.add_strip leaves it as it was)."""
+    session = DesignSession(sw.from_shape(box(10), target_triangles=6000), Design([CUBE_BELTS[0]]))
+    both = Design([CUBE_BELTS[0], CUBE_BELTS[1]]).anchor_lists()
+    session.native._fail_solves_for_test(failing)
+    with pytest.raises(sw.InputError, match="strip 2: .*failed on purpose"):
+        session.native.set_strips(both)
+    kept = session.native.strip_count
+    assert kept == (1 if failing == 1 else 0)
+    for i in range(kept):                       # every kept strip is readable and whole
+        strip = session.native.strip(i)
+        assert strip["area_fraction"] > 0 and len(strip["triangles"]) > 0
+    session.update()                            # and the design goes on
+    session.add_strip(list(CUBE_BELTS[1][0:1]))
+    assert session.native.strip_count == 2 and session.native.strip(1)["area_fraction"] > 0
+    session.native._fail_solves_for_test(1)
+    with pytest.raises(sw.InputError):
+        session.add_strip(list(CUBE_BELTS[2]))
+    assert len(session.design.strips) == 2 and session.native.strip_count == 2

@@ -116,6 +116,8 @@ void bind_design(py::module_& m) {
              }
              return out;
            })
+      .def("_fail_solves_for_test", &DesignState::fail_solves_for_test, py::arg("count"),
+           "Test entry: the next `count` solves fail as a numerical error would")
       .def_property_readonly("memory_bytes",
                              [](const DesignState& d) {
                                const DesignState::MemoryBytes m = d.memory_bytes();

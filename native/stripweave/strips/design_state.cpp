@@ -5,6 +5,7 @@
 #include "stripweave/core/stopwatch.h"
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace stripweave {
 
@@ -28,6 +29,10 @@ DesignState::DesignState(std::shared_ptr<LoopSession> session, const FieldOption
 
 DesignState::Solved DesignState::solve(const std::vector<LoopPath>& paths, DesignTimings* timings) const {
   const Surface& s = session_->surface();
+  if (failing_solves_ > 0) {
+    --failing_solves_;
+    throw std::runtime_error("a solve failed on purpose (fail_solves_for_test)");
+  }
   Solved out;
   std::vector<std::vector<PathSegment>> segments;
   for (const LoopPath& p : paths) segments.push_back(p.segments);
@@ -147,13 +152,27 @@ void DesignState::set_strips(const std::vector<StripSpec>& specs) {
   // On failure keep a consistent state: the strips before the failing one,
   // fully derived (those were solved already, as the failing strip's mask),
   // and name the strip in the error.
+  // Rethrow the exception being handled after deriving the strips in paths (or, if
+  // that fails too, none): every strip left has its extraction.
+  auto throw_consistent = [&](std::vector<LoopPath>& kept, double ms) {
+    try {
+      finish(kept, ms);
+    } catch (const std::exception&) {
+      strips_.clear();
+      kept.clear();
+      finish(kept, 0);
+    }
+    throw;
+  };
   auto fail = [&](size_t failing, const std::string& what) {
     session_->clear_disabled();
     strips_.resize(failing);
     paths.resize(failing);
     try {
       finish(paths, loops_ms);
-    } catch (const InputError&) {
+    } catch (const Cancelled&) {
+      throw;
+    } catch (const std::exception&) {
       strips_.clear();
       paths.clear();
       finish(paths, 0);
@@ -173,7 +192,9 @@ void DesignState::set_strips(const std::vector<StripSpec>& specs) {
       } else {
         try {
           mask = mask_of(solve(paths, nullptr).strips);
-        } catch (const InputError& e) {
+        } catch (const Cancelled&) {
+          throw_consistent(paths, loops_ms);
+        } catch (const std::exception& e) {
           fail(i - 1, e.what());
         }
       }
@@ -194,8 +215,7 @@ void DesignState::set_strips(const std::vector<StripSpec>& specs) {
       session_->clear_disabled();
       strips_.resize(i);
       paths.resize(i);
-      finish(paths, loops_ms);
-      throw;
+      throw_consistent(paths, loops_ms);
     }
     clock.lap("loop");
     loops_ms += laps.back().second;
@@ -209,7 +229,16 @@ void DesignState::set_strips(const std::vector<StripSpec>& specs) {
   session_->clear_disabled();
   try {
     finish(paths, loops_ms);
-  } catch (const InputError& e) {
+  } catch (const Cancelled&) {
+    // Cancelled inside the solve: no strip may stay without its extraction (a
+    // reader of strip(i) would index an empty coverage), so back to no strips.
+    strips_.clear();
+    paths.clear();
+    throw_consistent(paths, 0);
+  } catch (const std::exception& e) {
+    // Any failure of the solve (an InputError, or a numerical one such as a zero
+    // pivot in the KKT factorization on a degenerate mesh) leaves the consistent
+    // prefix: every strip kept is fully derived.
     if (strips_.empty()) throw;
     fail(strips_.size() - 1, e.what());
   }

@@ -53,6 +53,10 @@ class DesignState {
 
   void set_strips(const std::vector<StripSpec>& specs);
   const std::vector<DesignStrip>& strips() const { return strips_; }
+  // Test entry: the next `count` solves fail as a numerical error would (a
+  // std::runtime_error, as a zero pivot in the KKT factorization does), to
+  // check that set_strips leaves every strip it keeps fully derived.
+  void fail_solves_for_test(int count) { failing_solves_ = count; }
   const CrossField& field() const { return field_; }
   const Parameterization& parameterization() const { return param_; }
   // The final solve and extraction over the whole design (not the prefixes).
@@ -125,6 +129,7 @@ class DesignState {
   // The surface's elimination order for S (parameterization.h), computed at
   // the first solve: it depends on the mesh alone.
   mutable std::vector<Index> vertex_order_;
+  mutable int failing_solves_ = 0;  // fail_solves_for_test
 };
 
 // The loop path of a loop: embedded and cut into per-triangle segments.
