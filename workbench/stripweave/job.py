@@ -264,9 +264,8 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
         # Where the layout stays invalid and what to try (issue 18): in report.json and every message.
         every_red = red_regions(ds, limit=None)
         report["red_regions"] = every_red[:5]
-        red_text = why_red(report["red_regions"], report["regions"]["red"], stopped,
-                           WeaveOptions(max_strips=max_strips, **{k: v for k, v in weave_options.items()
-                                                                   if k == "budget"}))
+        red_text = why_red(report["red_regions"], report["regions"]["red"], stopped, max_strips,
+                           weave_options.get("budget", WeaveOptions.budget))
     from .components import component_report
     components = component_report(ds.surface, layout, every_red if not report["valid"] else ())
     if components:      # an assembly or a multi-component file: each part's own figures

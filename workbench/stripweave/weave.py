@@ -812,7 +812,7 @@ def red_regions(ds, limit=5):
             for r in (red if limit is None else red[:limit])]
 
 
-def why_red(red, total, stopped, options):
+def why_red(red, total, stopped, max_strips, budget):
     """One line for people: which red regions remain, where, why each is no disc, why weaving
     stopped, and what to try."""
     def where(r):
@@ -820,9 +820,9 @@ def why_red(red, total, stopped, options):
         loops = f"{r['boundaries']} boundary loop{'' if r['boundaries'] == 1 else 's'}"
         return f"a region{at} (genus {r['genus']}, {loops}: not a disc)"
     shown = "; ".join(where(r) for r in red[:3]) + ("; ..." if total > 3 else "")
-    tries = [f"--budget {2 * options.budget:g}"]
+    tries = [f"--budget {2 * budget:g}"]
     if stopped == "max strips":
-        tries.insert(0, f"--max-strips {options.max_strips + 20}")
+        tries.insert(0, f"--max-strips {max_strips + 20}")
     first = next((r["position"] for r in red if r["position"] is not None), None)
     by_hand = "adding a strip through " + ("(" + ", ".join(f"{x:.4g}" for x in first) + ")" if first else
                                          "the red region") + " by hand (a loop that cuts it)"

@@ -29,9 +29,8 @@ std::vector<Index> triangles_to_split(const std::vector<Index>& uses, const std:
 
 Index split_touching_edges(TriangleMesh& mesh, std::vector<Index>& face_of_triangle) {
   std::unordered_map<std::uint64_t, std::vector<Index>> uses;
-  auto pack = [](const EdgeKey& k) { return (static_cast<std::uint64_t>(k[0]) << 32) | static_cast<std::uint32_t>(k[1]); };
   for (Index t = 0; t < mesh.num_triangles(); ++t)
-    for (int i = 0; i < 3; ++i) uses[pack(edge_key(mesh.triangles[t][i], mesh.triangles[t][(i + 1) % 3]))].push_back(t);
+    for (int i = 0; i < 3; ++i) uses[pack_edge(edge_key(mesh.triangles[t][i], mesh.triangles[t][(i + 1) % 3]))].push_back(t);
   // Deterministic order: by edge key.
   std::vector<std::pair<std::uint64_t, std::vector<Index>>> fins;
   for (auto& [k, ts] : uses)
@@ -72,14 +71,13 @@ Index part_touching_faces(TriangleMesh& mesh, std::vector<Index>& face_of_triang
     return it == copies_of.end() ? std::vector<Index>{v} : *it->second;
   };
   std::unordered_map<std::uint64_t, char> mesh_edge;
-  auto pack = [](const EdgeKey& k) { return (static_cast<std::uint64_t>(k[0]) << 32) | static_cast<std::uint32_t>(k[1]); };
   for (const Tri& t : mesh.triangles)
-    for (int i = 0; i < 3; ++i) mesh_edge[pack(edge_key(t[i], t[(i + 1) % 3]))] = 1;
+    for (int i = 0; i < 3; ++i) mesh_edge[pack_edge(edge_key(t[i], t[(i + 1) % 3]))] = 1;
   for (EdgeKey& k : segments) {
     if (!copies_of.count(k[0]) && !copies_of.count(k[1])) continue;
     for (Index a : copies_or_self(k[0]))
       for (Index b : copies_or_self(k[1]))
-        if (mesh_edge.count(pack(edge_key(a, b)))) k = edge_key(a, b);
+        if (mesh_edge.count(pack_edge(edge_key(a, b)))) k = edge_key(a, b);
   }
   const size_t n = corners.size();
   for (size_t i = 0; i < n; ++i)
