@@ -333,6 +333,33 @@ def test_refinement_lays_no_patch_over_a_crease(tmp_path):
     with open(tmp_path / "layout.json", encoding="utf-8") as f:
         layout = json.load(f)
     assert not [i for i, p in enumerate(layout["patches"]) if p["creased"]]
+    assert layout["crease_conforming"] and layout["clean"]     # the main job's part ends clean
+
+
+def test_refinement_never_runs_a_loop_along_a_crease():
+    """A waisted solid of revolution with flat caps (like the shipped handle): the caps' rims
+    are creases. Refinement anchors a splitting loop in the middle of a patch's short side,
+    along it; where that side lies on a rim, the loop ran along the crease, which then lies on
+    no primal edge ("loop along a crease": two crease regions, not clean). Such sides are
+    no anchors, and no refining strip may raise the crease excess (weave._less_conforming)."""
+    from stripweave.weave import _less_conforming, _splits
+    ring = [{"colour": "none", "genus": 0, "euler_characteristic": 1, "crease_excess": 0,
+             "disc": True, "valence": 4, "ideal_valence": 4, "excess_extrema": 0}]
+    assert _less_conforming({"regions": [dict(ring[0], crease_excess=1)]}, {"regions": ring})
+    assert not _less_conforming({"regions": ring}, {"regions": [dict(ring[0], crease_excess=1)]})
+    side = lambda x0, x1, y0, y1, **f: {"points": [[x0, y0, 0], [x1, y1, 0]], "length": abs(x1 - x0) + abs(y1 - y0), **f}
+    layout = {"edges": [side(0, 4, 0, 0), side(4, 4, 0, 1, sharp=True), side(4, 0, 1, 1), side(0, 0, 1, 0)],
+              "patches": [{"edges": [0, 1, 2, 3]}]}
+    anchors = _splits(layout, 0)
+    assert [a[:3] for a in anchors][0] == [0.0, 0.5, 0.0]     # the side on the crease is no anchor
+    assert len(anchors) == 2
+
+    def ring_wire(r, z):
+        return Part.Wire([Part.makeCircle(r, FreeCAD.Vector(0, 0, z))])
+    waist = Part.makeLoft([ring_wire(9, 0), ring_wire(5.5, 12), ring_wire(6.5, 24)], True, False)
+    report = sw.weave(sw.from_shape(waist, target_triangles=15000))
+    assert report["valid"] and report["crease_conforming"] and report["clean"]
+    assert report["patches"] >= 30
 
 
 def test_an_area_no_single_strip_covers_gets_a_pair():

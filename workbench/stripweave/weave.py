@@ -597,6 +597,12 @@ def _splits(layout, patch):
     short = sorted(((k + 1) % 4, (k + 3) % 4), key=lambda j: (-edges[sides[j]]["length"], sides[j]))
     out = []
     for j in short:
+        if edges[sides[j]].get("sharp") or edges[sides[j]].get("boundary"):
+            # A short side on a crease (or the open boundary): the loop anchored along it
+            # would run along the crease, which then lies on no primal edge (the loop takes
+            # the primal edge's place: crease_structure.h, "loop along a crease"). The
+            # corridor's middle is the crease itself; no loop may go there.
+            continue
         points = edges[sides[j]]["points"]
         p, a, b = _at_length(points, 0.5), _at_length(points, 0.25), _at_length(points, 0.75)
         d = [y - x for x, y in zip(a, b)]
@@ -608,6 +614,14 @@ def _splits(layout, patch):
     d = [b - a for a, b in zip(p, q)]
     out.append(list(p) + d if any(d) else list(p))
     return out
+
+
+def _less_conforming(after, before):
+    """Whether a refining strip leaves the layout further from valid and crease-conforming:
+    score()'s first three figures (red genus, red badness, crease excess) worse. Corners
+    never pay for a crease region: the crease it leaves off the primal edges is a seam no
+    smooth patch fits (a loop along the handle's top rim made its two crease regions)."""
+    return score(after)[:3] > score(before)[:3]
 
 
 def _refine(w, ds, options, a, result, elapsed):
@@ -718,7 +732,7 @@ def _refine(w, ds, options, a, result, elapsed):
             q = w.quality(pred, pred_layout, base_flaws)
             over = limit and len(pred_layout["patches"]) > limit and len(pred_layout["patches"]) > patches
             creases = _creased(pred_layout) > creased + 1e-9 * (1 + creased)
-            if pred["colours"]["red"] or score(pred)[0] > score(a)[0] or q >= current + slack or over or creases:
+            if pred["colours"]["red"] or _less_conforming(pred, a) or q >= current + slack or over or creases:
                 tried.add(_key(seed[:3]))    # no gain from here in this design
                 continue
             if best is None or q < best[0]:
@@ -735,7 +749,7 @@ def _refine(w, ds, options, a, result, elapsed):
             continue
         after_layout = w.layout()
         after = w.assess()
-        if after["colours"]["red"] or score(after)[0] > score(a)[0] or \
+        if after["colours"]["red"] or _less_conforming(after, a) or \
                 w.quality(after, after_layout, base_flaws) >= current + slack or \
                 _creased(after_layout) > creased + 1e-9 * (1 + creased):
             w.remove(index)
