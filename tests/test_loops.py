@@ -257,6 +257,22 @@ def test_cube_belt_crosses_edges_orthogonally(cube_session):
     assert max(edge_dirs) < 10.0
 
 
+def test_an_anchor_along_a_crease_leaves_it(cube_session):
+    """A directional anchor on a cube edge, pointing along the edge: a dual loop may cross a
+    crease but never run along it (the crease must be a primal edge). The anchor takes the
+    nearest direction that leaves the edge, and the loop found is a belt across it, with no
+    step along the edge (before: its first step ran along the edge, the loop with it)."""
+    loop = cube_session.loops([(10, 5, 10, 0, 1, 0)])[0]
+    p = np.asarray(loop["points"])
+
+    def on_that_edge(q):
+        return abs(q[0] - 10) < 1e-6 and abs(q[2] - 10) < 1e-6
+    steps = [i for i in range(len(p) - 1) if on_that_edge(p[i]) and on_that_edge(p[i + 1])
+             and np.linalg.norm(p[i + 1] - p[i]) > 1e-6]
+    assert not steps
+    assert loop["closed"] and loop["length"] == pytest.approx(40, rel=0.03)
+
+
 def test_open_cylinder_aligned_gives_an_open_curve_meeting_the_boundaries_orthogonally():
     session = LoopSession(sw.from_shape(open_cylinder_shell(5, 20)), boundary="aligned")
     loop = session.loops([(5, 0, 10, 0, 0, 1)])[0]

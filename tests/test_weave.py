@@ -156,6 +156,59 @@ def test_cube_regions_are_eight_corners(cube):
     assert all("added_by" in s.extra for s in ds.design.strips)
 
 
+def test_a_crease_region_is_seeded_across_its_crease(cube):
+    """A cube with two belts crossing on top and bottom: four regions, each holding a vertical
+    edge with a corner at either end (two crease nodes). The region's seed is the middle of
+    that edge, and a directional one: across the crease, in the mean tangent plane of its two
+    faces, so the loop that separates the corners crosses the edge orthogonally (§5.6) from a
+    one-direction query."""
+    from stripweave.weave import _crease_seed
+    design = Design()
+    for anchor in ((5, 5, 10, 1, 0, 0), (5, 5, 10, 0, 1, 0)):
+        design.add_strip([anchor])
+    ds = DesignSession(cube, design)
+    a = native.weave_assessment(ds.native, [], 1)
+    creased = [r for r in a["regions"] if r["crease_problem"] == "two crease nodes"]
+    assert len(creased) == 4
+    for r in creased:
+        x, y, z = r["crease_seed"]
+        assert z == pytest.approx(5.0, abs=1.0) and {round(x), round(y)} <= {0, 10}
+        across = np.array(r["crease_seed_across"])
+        faces = np.array([1.0 if x > 5 else -1.0, 1.0 if y > 5 else -1.0, 0.0])   # the two faces' normals, summed
+        assert np.linalg.norm(across) == pytest.approx(1.0)
+        assert abs(across[2]) < 0.05 and abs(across @ faces) < 0.05
+        seed = _crease_seed(r)
+        assert len(seed) == 6 and seed[3:] == list(across)
+
+
+def test_the_red_phase_does_not_spend_the_quality_budget():
+    """A plate with three through holes under a small budget (40 units): cutting its handles
+    costs the red phase about 90 units. The budget counts from the moment the design is
+    valid, so the crease and refining phases still get their 40 (before, they got nothing
+    and the layout stayed at the red phase's 9 patches)."""
+    plate = Part.makeBox(100, 60, 5)
+    for k in range(3):
+        plate = plate.cut(Part.makeCylinder(4, 5, FreeCAD.Vector(25 + 25 * k, 30, 0)))
+    report = sw.weave(sw.from_shape(plate, target_triangles=12000), budget=40.0)
+    assert report["valid"]
+    reasons = [e["reason"] for e in report["log"]]
+    assert reasons[0] == "red region" and any(r != "red region" for r in reasons)
+
+
+def test_refinement_never_trades_a_defect_for_corners():
+    """A split that leaves a degenerate sliver can still lower the mean corner deviation (its
+    four 90-degree corners weigh 1/N of the mean): it is refused all the same."""
+    from stripweave.weave import _less_clean
+    fine = {"regions": [{"colour": "none", "genus": 0, "euler_characteristic": 1, "crease_excess": 0,
+                         "disc": True, "valence": 4, "ideal_valence": 4, "excess_extrema": 0}]}
+    before = {"valid": True, "patches": [_quad([0, 1, 2, 3], [60, 120, 60, 120])], "vertices": [{}] * 4}
+    sliver = {"valid": True, "patches": [_quad([0, 1, 2, 3], [90] * 4) for _ in range(10)] +
+              [_quad([2, 3, 4, 5], [90] * 4, defects=["degenerate"])], "vertices": [{}] * 6}
+    assert _deviation(sliver) < _deviation(before)        # the corners alone would take it
+    assert _less_clean(sliver, fine, before, fine)
+    assert not _less_clean(before, fine, sliver, fine)
+
+
 def test_torus_gives_a_valid_layout():
     surface = sw.from_shape(torus(10, 3), target_triangles=8000)
     report = sw.weave(surface)
@@ -450,14 +503,15 @@ def test_patches_past_twenty_median_areas_are_split_first():
 
 
 def test_refinement_refused_by_the_band_refines_under_the_papers_mask():
-    """A plate with three through holes: refinement's wider compatibility (band and 60
-    degrees) refuses a strip the colour phase added (no compatible loop joins its anchors).
-    That refusal is internal: weaving goes on without an error, under the design's own mask
-    (the paper's), and still refines (it used to stop there, no strip added)."""
+    """A plate with three through holes: refinement's wider compatibility (a band, and here an
+    85-degree angle) refuses a strip the colour phase added (the direction of its anchor is
+    disabled by the strips after it). That refusal is internal: weaving goes on without an
+    error, under the design's own mask (the paper's), and still refines (it used to stop
+    there, no strip added). At the default 60 degrees this plate's design takes the band."""
     plate = Part.makeBox(100, 60, 5)
     for k in range(3):
         plate = plate.cut(Part.makeCylinder(4, 5, FreeCAD.Vector(25 + 25 * k, 30, 0)))
-    report = sw.weave(sw.from_shape(plate, target_triangles=12000))
+    report = sw.weave(sw.from_shape(plate, target_triangles=12000), refine_angle_deg=85.0)
     assert report["valid"]
     assert report["design"].options.get("compatibility_band") is None     # the paper's mask kept
     refined = [e for e in report["log"] if e["reason"] == "corner deviation"]

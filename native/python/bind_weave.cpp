@@ -19,7 +19,8 @@
 //               that have the region on both sides (weave_seeds.h);
 //               "excess_extrema", "crease_problem", and for a crease region
 //               "crease_seed" [x,y,z] (crease_structure.h: where a loop
-//               across the crease would resolve it)
+//               across the crease would resolve it) and "crease_seed_across"
+//               [dx,dy,dz] (the direction across the crease there; zero if none)
 //     valid, crossings, arcs, colours {"red","orange","yellow","crease","none"}
 //     uncovered {"found", "area", "largest_area", "surface_area", "point",
 //                "clearance"}: what no strip covers (the design's strips only)
@@ -122,8 +123,11 @@ void bind_weave(py::module_& m) {
           x["crease_excess"] = g.crease_excess;
           // Where a loop across the crease would resolve a crease region (crease_structure.h).
           const Index split = regions.creases.regions[r].split_vertex;
-          if (g.crease_problem != CreaseProblem::None && split != kInvalid)
+          if (g.crease_problem != CreaseProblem::None && split != kInvalid) {
             x["crease_seed"] = model_point(s, arrangement.mesh.positions[split]);
+            const Vec3& across = regions.creases.regions[r].split_across;   // the similarity only scales
+            x["crease_seed_across"] = std::vector<double>{across.x(), across.y(), across.z()};
+          }
           py::list pts, clear;
           for (const SeedPoint& p : seeds[r]) {
             pts.append(model_point(s, p.point));

@@ -47,8 +47,11 @@ degrees, and such crossings are patch corners 45 degrees off; 60 measured: rocke
 against 21.0 degrees, ec_soapbox-A 16.1 against 16.6, spot 27.9 either way, bumpy-cube 16.5
 against 15.3, where it stopped at fewer patches). It stops at
 the deviation or patch target (no candidate that would pass refine_patches is taken), the
-work budget (past which only red regions are worked on, up to red_reserve budgets), or the
-strip limit.
+work budget (past which only red regions are worked on, up to red_reserve budgets in all;
+the budget counts from the first valid design, so the work validity takes leaves the
+crease, colour and refining phases their whole budget), or the strip limit. Refinement
+never takes a strip that leaves a red region, more crease excess, more crease inside
+patches, or more defective patches and vertices, whatever the corners gain.
 
 The work budget counts what weaving does, not how long it takes, so the same input gives
 the same design on any machine: a loop query is half a unit plus its own work count
@@ -94,7 +97,8 @@ class WeaveOptions:
     seeds_per_region: int = 3       # seed points tried per region (centre first)
     alternatives: int = 3           # ranked alternatives tried when no seed point helps
     seed: int = 0                   # which seed point to try first (varies the result, deterministically)
-    budget: float = 200.0           # work units (module doc); past it, only red regions are worked on
+    budget: float = 200.0           # work units (module doc), counted from the first valid design; past it,
+                                    # only red regions are worked on
     time_limit_s: float = 90.0      # wall-clock safety net, same effect (inf: none)
     red_reserve: float = 4.0        # red regions may spend this many budgets (and time limits) in all, then
                                     # weaving stops with them left: a run never loops forever (a model on
@@ -224,10 +228,13 @@ def seeds_in_order(a, options, skip):
             if points:
                 k = options.seed % len(points)
                 points = points[k:] + points[:k]
-            if colour == "crease" and "crease_seed" in r and _key(r["crease_seed"]) not in skip:
+            if colour == "crease" and "crease_seed" in r and _key(_crease_seed(r)) not in skip:
                 # First the point whose loop would cross the crease between its two nodes (or
-                # exits), separating them (crease_structure.h).
-                points = [r["crease_seed"]] + points
+                # exits), separating them (crease_structure.h), leaving across the crease: the
+                # loop that separates them crosses it orthogonally (§5.6), and a query in one
+                # direction costs a fraction of the all-directions one (whose best loop may
+                # even run along the crease there, which separates nothing).
+                points = [_crease_seed(r)] + points
             if colour == "red":
                 # After the centre: across each loop that leaves the region on both sides (the
                 # cut that completes a handle's meridian), then the other seed points.
@@ -247,6 +254,13 @@ def seeds_in_order(a, options, skip):
             if points:
                 out.append(("no patch yet", i, "uncovered", points))
     return out
+
+
+def _crease_seed(region):
+    """A crease region's seed (weave_assessment's crease_seed), directional across the crease
+    where the assessment gives that direction."""
+    across = list(region.get("crease_seed_across") or ())
+    return list(region["crease_seed"]) + (across if any(across) else [])
 
 
 def _key(p):
@@ -274,6 +288,7 @@ class _Weaver:
         self.work = 0.0             # units spent (module doc)
         self.spent = {}             # units by step (assess, predict, layout, derive, query): what dominates
         self.cancelled = 0          # loop queries cut by the timeout
+        self.valid_at = None        # (work, seconds) when the design first had no red region
         self.user_strips = len(ds.design.strips)
         self.groups = {}            # index of an added strip -> 1 + its symmetric images, added after it
         self.image_tolerance = 0.0
@@ -290,9 +305,25 @@ class _Weaver:
         self.work += units
         self.spent[step] = self.spent.get(step, 0.0) + units
 
+    def became_valid(self, elapsed):
+        """Start the quality budget: the work (and time) spent so far went to validity."""
+        if self.valid_at is None:
+            self.valid_at = (self.work, elapsed())
+
+    def quality_work(self, elapsed):
+        """(work units, seconds) spent since the design became valid (all of it before)."""
+        work, seconds = self.valid_at or (0.0, 0.0)
+        return self.work - work, elapsed() - seconds
+
     def out_of_work(self, elapsed):
-        """Whether the budget (deterministic) or the safety net (wall clock) is used up."""
-        return self.work >= self.options.budget or elapsed() > self.options.time_limit_s
+        """Whether the budget (deterministic) or the safety net (wall clock) is used up. Both
+        count from the moment the design became valid: the loops a part's handles and holes
+        need are its topology's (every handle takes at least two, every extra boundary one),
+        not a choice of quality, so the crease, colour and refining phases get the whole
+        budget on a genus-10 casting as on a sphere (they got what the red phase left: 29 of
+        200 units on a plate with holes, which then never reached its crease phase)."""
+        work, seconds = self.quality_work(elapsed)
+        return work >= self.options.budget or seconds > self.options.time_limit_s
 
     def out_of_red_work(self, elapsed):
         """Whether even red regions must stop: red_reserve budgets (or time limits) spent."""
@@ -300,7 +331,8 @@ class _Weaver:
         return self.work >= reserve * self.options.budget or elapsed() > reserve * self.options.time_limit_s
 
     def why_out(self, elapsed):
-        return "work budget" if self.work >= self.options.budget else "time limit (safety net)"
+        spent = self.quality_work(elapsed)[0] if self.valid_at else self.work
+        return "work budget" if spent >= self.options.budget else "time limit (safety net)"
 
     def check_cancel(self):
         """Raise Cancelled once options.cancel is set (checked before every step that costs work)."""
@@ -616,6 +648,28 @@ def _splits(layout, patch):
     return out
 
 
+def _defects(layout):
+    """(area of the defective patches, number of flagged vertices): the strict checks'
+    verdict (layout_defects.h) in two figures that a split of a defective patch into two
+    defective halves leaves as they were, and a new sliver or flagged vertex raises."""
+    area = sum(p["area"] for p in layout.get("patches", ()) if p.get("defects"))
+    return area, len(_defect_vertices(layout))
+
+
+def _less_clean(after_layout, after, before_layout, before):
+    """Whether a refining strip takes the layout further from clean: worse validity or
+    crease conformity (_less_conforming), more area in defective patches, or more flagged
+    vertices. A defect is never traded for corners: a strip that left one degenerate sliver
+    among 78 patches lowered the mean corner deviation by more than the sliver's four
+    90-degree corners raised it (a waisted solid of revolution), and the layout was no
+    longer clean. Area, not a count: halving a patch that is no quad gives two, and is no
+    step back (a plate with three holes stopped refining at 17 patches on the count)."""
+    (area_after, flagged_after), (area_before, flagged_before) = _defects(after_layout), _defects(before_layout)
+    total = sum(p["area"] for p in before_layout.get("patches", ())) or 1.0
+    return _less_conforming(after, before) or flagged_after > flagged_before or \
+        area_after > area_before + 1e-6 * total
+
+
 def _less_conforming(after, before):
     """Whether a refining strip leaves the layout further from valid and crease-conforming:
     score()'s first three figures (red genus, red badness, crease excess) worse. Corners
@@ -732,7 +786,8 @@ def _refine(w, ds, options, a, result, elapsed):
             q = w.quality(pred, pred_layout, base_flaws)
             over = limit and len(pred_layout["patches"]) > limit and len(pred_layout["patches"]) > patches
             creases = _creased(pred_layout) > creased + 1e-9 * (1 + creased)
-            if pred["colours"]["red"] or _less_conforming(pred, a) or q >= current + slack or over or creases:
+            if pred["colours"]["red"] or _less_clean(pred_layout, pred, layout, a) or q >= current + slack or over \
+                    or creases:
                 tried.add(_key(seed[:3]))    # no gain from here in this design
                 continue
             if best is None or q < best[0]:
@@ -749,7 +804,7 @@ def _refine(w, ds, options, a, result, elapsed):
             continue
         after_layout = w.layout()
         after = w.assess()
-        if after["colours"]["red"] or _less_conforming(after, a) or \
+        if after["colours"]["red"] or _less_clean(after_layout, after, layout, a) or \
                 w.quality(after, after_layout, base_flaws) >= current + slack or \
                 _creased(after_layout) > creased + 1e-9 * (1 + creased):
             w.remove(index)
@@ -884,6 +939,8 @@ def _weave(w, ds, options):
             break
         current = score(a)
         valid = a["colours"]["red"] == 0
+        if valid:
+            w.became_valid(elapsed)
         if valid and (options.patches or options.refine_patches) and \
                 a["crossings"] >= (options.patches or options.refine_patches):
             result.stopped = "patch target"
@@ -895,7 +952,8 @@ def _weave(w, ds, options):
         if not valid and w.out_of_red_work(elapsed):
             result.stopped = f"{w.why_out(elapsed)}, {options.red_reserve:g} times over (red regions remain)"
             break
-        if valid and a["crossings"] and options.refine and w.work >= options.colour_share * options.budget:
+        if valid and a["crossings"] and options.refine and \
+                w.quality_work(elapsed)[0] >= options.colour_share * options.budget:
             # The rest of the budget goes to refinement, which splits the worst patches: on
             # scans the colour seeds mostly give strips the real layout does not keep.
             result.stopped = "no seed helps"

@@ -73,6 +73,16 @@ LoopTables loop_tables(const Surface& s, const ElasticaGraph& g) {
   return t;
 }
 
+// The number of crease (feature) edges at a surface vertex.
+static int crease_edges_at(const Surface& s, Index v) {
+  int count = 0;
+  for (const Index* n = s.topology.vertex_neighbours.begin(v); n != s.topology.vertex_neighbours.end(v); ++n) {
+    const Index e = s.topology.find_edge(v, *n);
+    count += e != kInvalid && s.edge_class[e] == EdgeClass::Feature;
+  }
+  return count;
+}
+
 ResolvedAnchor resolve_anchor(const SearchContext& ctx, const SurfaceLocator& locator, const Anchor& anchor,
                               double max_distance, int index) {
   const Surface& s = ctx.surface;
@@ -104,7 +114,16 @@ ResolvedAnchor resolve_anchor(const SearchContext& ctx, const SurfaceLocator& lo
                        model_point(s, anchor.point) + " is perpendicular to the surface");
     }
     const Vec3 e1 = g.frame[v], e2 = n.cross(e1);
-    const double theta = std::atan2(d.dot(e2), d.dot(e1));
+    double theta = std::atan2(d.dot(e2), d.dot(e1));
+    // A dual loop crosses a crease but never runs along it: the crease must
+    // be a primal edge, and primal edges lie between loops, not on them
+    // (crease_structure.h, "loop along a crease"); nor can it leave a crease
+    // vertex diagonally and close smoothly (it would have to arrive along the
+    // crease). On a crease vertex (two crease edges; frame[v] runs along the
+    // crease, at polar angle 0) a direction nearer the crease than across it
+    // is taken across it (§5.6: curves cross features orthogonally). A
+    // crease junction keeps the direction asked for.
+    if (crease_edges_at(s, v) == 2 && std::abs(std::sin(theta)) < std::sqrt(0.5)) theta = 0.5 * M_PI;
     // The node closest to the direction and the one closest to its opposite:
     // a tangent's sign does not matter.
     for (double want : {theta, theta + M_PI}) {

@@ -4,7 +4,9 @@
 // resolved to its nearest g-vertex v_i and a candidate set xi_i of outgoing
 // nodes: every enabled outgoing node of v_i for a positional anchor, the node
 // closest to the direction (and to its opposite: a direction's sign does not
-// matter) for a directional one.
+// matter) for a directional one. On a crease vertex a direction nearer the
+// crease than across it is taken across it: a dual loop crosses a crease,
+// never runs along it (the crease must be a primal edge).
 //
 // Metagraph (§5.4): metanodes are the candidates, a metaedge (a, b), a in
 // xi_i, b in xi_{i+1 mod n}, weighs the shortest g'-path from a to b, and the

@@ -138,7 +138,8 @@ struct Analysis {
       const Index from = rc.problem == CreaseProblem::TwoNodes ? rc.node : rc.problem == CreaseProblem::SameArc
                                                                                   ? twice->second
                                                                                   : kInvalid;
-      rc.split_vertex = from != kInvalid && other_end != kInvalid ? middle_of_path(edges, from, other_end) : kInvalid;
+      rc.split_vertex =
+          from != kInvalid && other_end != kInvalid ? middle_of_path(edges, from, other_end, rc.split_across) : kInvalid;
       if (rc.split_vertex == kInvalid) rc.split_vertex = rc.problem_vertex;
     }
     for (Index v : vertices) degree[v] = 0;
@@ -147,7 +148,7 @@ struct Analysis {
   // The vertex halfway (by length) along the crease path from a to b over
   // `edges` (breadth-first: the crease network between two nodes of one
   // region is a chain or a small tree); kInvalid if they are not joined.
-  Index middle_of_path(const std::vector<Index>& edges, Index a, Index b) const {
+  Index middle_of_path(const std::vector<Index>& edges, Index a, Index b, Vec3& across) const {
     std::unordered_map<Index, std::vector<Index>> next;
     for (Index e : edges) {
       const EdgeKey& k = A.topology.edges[e];
@@ -164,11 +165,30 @@ struct Analysis {
     double total = 0;
     for (size_t i = 0; i + 1 < path.size(); ++i) total += length(path[i], path[i + 1]);
     double run = 0;
-    for (size_t i = 0; i + 1 < path.size(); ++i) {
-      run += length(path[i], path[i + 1]);
-      if (run >= 0.5 * total) return path[i + 1];
+    size_t i = 0;
+    while (i + 2 < path.size() && (run += length(path[i], path[i + 1])) < 0.5 * total) ++i;
+    across = across_crease(path, i);
+    return path[std::min(i + 1, path.size() - 1)];
+  }
+
+  // The direction across the crease path at its vertex i + 1, in the mean
+  // tangent plane of the crease's two sides there: a loop leaving that way
+  // crosses the crease orthogonally (§5.6), as a loop separating the two
+  // nodes should. Zero where the path is a single vertex.
+  Vec3 across_crease(const std::vector<Index>& path, size_t i) const {
+    if (path.size() < 2) return Vec3::Zero();
+    const size_t j = std::min(i + 2, path.size() - 1);
+    const Vec3 tangent = A.mesh.positions[path[j]] - A.mesh.positions[path[i]];
+    const Index e = A.topology.find_edge(path[i], path[i + 1]);
+    Vec3 normal = Vec3::Zero();
+    for (Index t : A.topology.edge_triangles[e]) {
+      if (t == kInvalid) continue;
+      const Tri& f = A.mesh.triangles[t];
+      const Vec3& p0 = A.mesh.positions[f[0]];
+      normal += (A.mesh.positions[f[1]] - p0).cross(A.mesh.positions[f[2]] - p0).normalized();
     }
-    return path.front();
+    const Vec3 d = normal.cross(tangent);
+    return d.norm() > 0 ? Vec3(d.normalized()) : Vec3::Zero();
   }
 
   double length(Index a, Index b) const { return (A.mesh.positions[a] - A.mesh.positions[b]).norm(); }

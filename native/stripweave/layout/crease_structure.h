@@ -69,6 +69,10 @@ struct RegionCreases {
   // crease path between the two nodes, or between the two exits across one
   // arc; a vertex of the second piece of crease; else problem_vertex.
   Index split_vertex = kInvalid;
+  // The direction across the crease there (unit, normalized frame; zero when
+  // the split is not on a crease path between two nodes or exits): the
+  // loop that resolves the region leaves split_vertex this way.
+  Vec3 split_across = Vec3::Zero();
   // How far the region is from carrying its creases, in one count that every
   // separating loop lowers: nodes beyond one, crease pieces beyond one, exits
   // beyond one per arc, independent crease cycles, and one each for a loop
