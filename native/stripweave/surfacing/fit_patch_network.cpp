@@ -798,19 +798,26 @@ struct SplitRound {
   std::vector<SplitChoice> choices;  // the cuts made, one per split
   std::vector<PatchSplit> splits;
   std::vector<bool> touched;         // per patch: in a split strip (a piece of it)
+  std::vector<Index> base;           // per patch, the patch of the round's base network it is (a piece of)
 };
 
 // One split per strip: a patch a split crossed is fitted again before it is
 // judged again.
 SplitRound apply_splits(const PatchNetwork& base, const std::vector<Index>& layout,
                         const std::vector<SplitChoice>& choices, int round, Index budget) {
-  SplitRound r{std::make_shared<PatchNetwork>(base), layout, {}, {}, std::vector<bool>(base.patches.size(), false)};
+  SplitRound r{std::make_shared<PatchNetwork>(base), layout, {}, {}, std::vector<bool>(base.patches.size(), false),
+               std::vector<Index>(base.patches.size())};
+  std::iota(r.base.begin(), r.base.end(), 0);
   for (const SplitChoice& c : choices) {
     if (r.touched[c.cut.patch] || Index(r.splits.size()) >= budget) continue;
     const StripSplit s = split_strip(*r.net, c.cut);
     if (!s.done) continue;
     r.touched.resize(r.net->patches.size(), true);
-    for (Index q : s.patches) r.touched[q] = true, r.layout.push_back(r.layout[q]);  // new_patches, in order
+    for (Index q : s.patches) {  // new_patches, in order
+      r.touched[q] = true;
+      r.layout.push_back(r.layout[q]);
+      r.base.push_back(r.base[q]);
+    }
     PatchSplit p;
     p.patch = c.cut.patch, p.layout_patch = r.layout[c.cut.patch];
     p.direction = c.cut.direction, p.at = c.cut.at;
@@ -822,29 +829,48 @@ SplitRound apply_splits(const PatchNetwork& base, const std::vector<Index>& layo
   return r;
 }
 
-// Whether a split lowered the deviation of its strip: the largest over the
-// strip's patches before, against the largest over their pieces after.
-bool strip_helped(const FitReport& before, const FitReport& after, const PatchSplit& s) {
-  double was = 0, is = 0;
-  for (Index q : s.strip) was = std::max(was, patch_miss(before.per_patch[q])), is = std::max(is, patch_miss(after.per_patch[q]));
-  for (Index q : s.new_patches) is = std::max(is, patch_miss(after.per_patch[q]));
-  return is < was;
+// How far a patch itself lies from the source: its own samples both ways
+// at the fit, its surface against the source; not the source nearest to it,
+// which a hole or a neighbour elsewhere may decide.
+double patch_own_miss(const FitReport& r, Index p) {
+  return std::max(r.per_patch[p].fit_max_deviation, r.deviation.per_patch[p].max_patch_to_source);
 }
 
-// A round is kept when its refit meets the tolerance, or lowers the
-// deviation of every strip it split without raising the network's largest
-// or folding more patches.
+// Whether a split helped: the patch it was made for came closer to the
+// tolerance (the larger of its two pieces against it before), and no other
+// patch of its strip came to lie further from the source than both the
+// tolerance and itself before. (Not the strip's largest deviation: another
+// patch of the strip, over a crease, may hold it whatever the split does.)
+// `base`: per patch after, the patch before it is (a piece of): a strip may
+// run through pieces of another split of the round.
+bool strip_helped(const FitReport& before, const FitReport& after, const std::vector<Index>& base,
+                  const PatchSplit& s) {
+  for (size_t k = 0; k < s.strip.size(); ++k) {
+    const Index q = s.strip[k], n = s.new_patches[k], b = base[q];
+    if (q == s.patch) {
+      if (std::max(patch_miss(after.per_patch[q]), patch_miss(after.per_patch[n])) >= patch_miss(before.per_patch[b]))
+        return false;
+    } else if (std::max(patch_own_miss(after, q), patch_own_miss(after, n)) >
+               std::max(patch_own_miss(before, b), before.tolerance)) {
+      return false;
+    }
+  }
+  return true;
+}
+
+// A round is kept when its refit meets the tolerance, or every split of it
+// helped without raising the network's largest deviation or folding more
+// patches.
 bool round_helped(const FitReport& before, const FitReport& after, const SplitRound& r) {
   if (after.tolerance_met) return true;
   for (const PatchSplit& s : r.splits)
-    if (!strip_helped(before, after, s)) return false;
+    if (!strip_helped(before, after, r.base, s)) return false;
   return after.max_deviation <= before.max_deviation && after.folded_patches <= before.folded_patches;
 }
 
 // Step 6: split and refit while patches miss the tolerance at their most
-// spans. The splits of a round that did not lower their strip's deviation
-// (an error along a seam, which every piece keeps) are undone and the rest
-// refitted; a round that does not help is undone whole and the splitting
+// spans. The splits of a round that did not help (an error along a seam,
+// which every piece keeps) are undone and the rest refitted; a round that does not help is undone whole and the splitting
 // stops: a miss no split mends costs a refit or two, never a worse fit.
 // `layout`: per patch of the fitted network, the input network's patch.
 void split_and_refit(const Surface& surface, const PatchNetwork& network, const FitOptions& options,
@@ -860,7 +886,7 @@ void split_and_refit(const Surface& surface, const PatchNetwork& network, const 
     FitResult refit = fit_network(surface, *trial.net, options);
     std::vector<SplitChoice> good;
     for (size_t k = 0; k < trial.splits.size(); ++k) {
-      if (strip_helped(result.report, refit.report, trial.splits[k])) good.push_back(trial.choices[k]);
+      if (strip_helped(result.report, refit.report, trial.base, trial.splits[k])) good.push_back(trial.choices[k]);
       else rejected.push_back(trial.splits[k]);
     }
     if (!good.empty() && good.size() < trial.splits.size()) {
