@@ -146,3 +146,17 @@ def test_a_split_that_does_not_help_is_undone():
     assert r["splits"] == [] and r["network"] is net
     assert r["rejected_splits"]
     assert [p["max_deviation"] for p in r["per_patch"]] == [p["max_deviation"] for p in plain["per_patch"]]
+
+
+def test_a_bump_next_to_a_hole_is_split(bump):
+    """The bumpy box with its top and bottom patches only: the upper half of the sides,
+    nearest to the top patch, keeps the top's two-sided deviation high whatever the split
+    does; the split is judged by how far the pieces themselves lie from the source, so it
+    is kept, and the top's pieces meet the tolerance."""
+    surface, net = bump
+    net = dict(net, patches=net["patches"][:2])  # the bottom and the top
+    r = native.refit(surface, net, max_spans=6)
+    assert r["splits"] and not r["tolerance_met"] and r["coverage"] < 0.9
+    top = [p for p in r["per_patch"] if p["layout_patch"] == TOP]
+    assert len(top) > 1
+    assert max(max(p["fit_max_deviation"], p["max_deviation_patch_to_source"]) for p in top) <= r["tolerance"]

@@ -837,35 +837,39 @@ double patch_own_miss(const FitReport& r, Index p) {
 }
 
 // Whether a split helped: the patch it was made for came closer to the
-// tolerance (the larger of its two pieces against it before), and no other
-// patch of its strip came to lie further from the source than both the
-// tolerance and itself before. (Not the strip's largest deviation: another
-// patch of the strip, over a crease, may hold it whatever the split does.)
+// source (the larger of its two pieces against it before), and no other
+// patch of its strip came to lie further from it than both the tolerance
+// and itself before. Each patch by its own distance (patch_own_miss): a
+// hole next to it is no business of the split. (And not the strip's
+// largest: another patch of the strip, over a crease, may hold it whatever
+// the split does.)
 // `base`: per patch after, the patch before it is (a piece of): a strip may
 // run through pieces of another split of the round.
 bool strip_helped(const FitReport& before, const FitReport& after, const std::vector<Index>& base,
                   const PatchSplit& s) {
   for (size_t k = 0; k < s.strip.size(); ++k) {
     const Index q = s.strip[k], n = s.new_patches[k], b = base[q];
-    if (q == s.patch) {
-      if (std::max(patch_miss(after.per_patch[q]), patch_miss(after.per_patch[n])) >= patch_miss(before.per_patch[b]))
-        return false;
-    } else if (std::max(patch_own_miss(after, q), patch_own_miss(after, n)) >
-               std::max(patch_own_miss(before, b), before.tolerance)) {
-      return false;
-    }
+    const double is = std::max(patch_own_miss(after, q), patch_own_miss(after, n)), was = patch_own_miss(before, b);
+    if (q == s.patch ? is >= was : is > std::max(was, before.tolerance)) return false;
   }
   return true;
 }
 
+// The network's largest patch_own_miss.
+double network_own_miss(const FitReport& r) {
+  double worst = 0;
+  for (Index p = 0; p < Index(r.per_patch.size()); ++p) worst = std::max(worst, patch_own_miss(r, p));
+  return worst;
+}
+
 // A round is kept when its refit meets the tolerance, or every split of it
-// helped without raising the network's largest deviation or folding more
-// patches.
+// helped without raising the network's largest (own) deviation or folding
+// more patches.
 bool round_helped(const FitReport& before, const FitReport& after, const SplitRound& r) {
   if (after.tolerance_met) return true;
   for (const PatchSplit& s : r.splits)
     if (!strip_helped(before, after, r.base, s)) return false;
-  return after.max_deviation <= before.max_deviation && after.folded_patches <= before.folded_patches;
+  return network_own_miss(after) <= network_own_miss(before) && after.folded_patches <= before.folded_patches;
 }
 
 // Step 6: split and refit while patches miss the tolerance at their most

@@ -72,12 +72,13 @@
 //      middle half), across the direction whose spans are longest on the
 //      part, one split per strip and round, and the split network is fitted
 //      again (from step 1). A split that did not help (the patch it was
-//      made for no closer to the tolerance, or another patch of its strip
-//      beyond both the tolerance and its deviation before) is undone, the
-//      others refitted without it; a round is kept when the refit meets the
-//      tolerance, or every split helped without raising the network's
-//      largest deviation or folding more patches; otherwise it is undone
-//      and the splitting stops. Every split is reported (FitReport::splits, and the undone
+//      made for no closer to the source, or another patch of its strip
+//      further than both the tolerance and itself before, each patch by its
+//      own distance: fit samples and patch-to-source, not the source a
+//      hole leaves nearest to it) is undone, the others refitted without
+//      it; a round is kept when the refit meets the tolerance, or every
+//      split helped without raising the network's largest such distance or
+//      folding more patches; otherwise it is undone and the splitting stops. Every split is reported (FitReport::splits, and the undone
 //      ones FitReport::rejected_splits).
 // Errors  InputError for an inconsistent network (a side whose mesh
 //         boundary does not carry its edge's polyline, an edge used by more
