@@ -456,3 +456,19 @@ def test_each_view_shows_the_model_axes():
         side = np.sign(right(d)[0])                                 # x's screen direction
         xs = np.nonzero(colour(0)[oy - 40:oy + 40, ox - 40:ox + 40].any(0))[0] - 40
         assert np.all(np.sign(xs[np.abs(xs) > 3]) == side)
+
+
+def test_a_split_layout_patch_shows_its_worst_piece():
+    """After splits the fit has more patches than the layout: each names its layout patch,
+    and the layout patch takes the colour of its worst piece."""
+    v, t, n = grid_square()
+    details = _halves(v, t)
+    fit = {"tolerance": 1.0, "per_patch": [{"max_deviation": 0.0, "layout_patch": 0},
+                                           {"max_deviation": 0.0, "layout_patch": 1},
+                                           {"max_deviation": 2.0, "layout_patch": 0}]}
+    tints = preview.patch_deviation_tints(details, fit, len(t))
+    c = v[t].mean(1)
+    assert np.allclose(tints[c[:, 0] < 5], preview.deviation_colour(2.0))
+    assert np.allclose(tints[c[:, 0] > 5], preview.deviation_colour(0.0))
+    with pytest.raises(ValueError, match="layout patches"):
+        preview.patch_deviation_tints(details, dict(fit, per_patch=fit["per_patch"][:1]), len(t))

@@ -14,7 +14,8 @@
 //   cancel() stops the fit with Cancelled (FitOptions::progress).
 //   Keyword options (FitOptions): relative_tolerance, initial_spans,
 //   max_spans, smoothing, seam_weight, seam_mode ('tangent' | 'c1'), tangent_rounds, edge_density, edge_smoothing, parameter_corrections, edge_snap, seam_from,
-//   seam_to, crease_angle_deg, vertex_tangent_planes, deviation_spacing and
+//   seam_to, crease_angle_deg, vertex_tangent_planes, split_patches, max_splits,
+//   split_rounds, deviation_spacing and
 //   deviation_chord (model units: how densely the reported deviation is
 //   measured, surfacing/fit_deviation.h; 0: the defaults).
 //   Returns (lengths in model units; the deviation is two-sided,
@@ -33,10 +34,16 @@
 //     rms_deviation_source_to_patch, rms_deviation_patch_to_source,
 //     source_area, fit_max_deviation, fit_rms_deviation, nu, nv, samples,
 //     worst_uv, side_deviation, crease_deg, crease_edges, crease_length,
-//     creased, flipped_fraction, folded}],
+//     creased, flipped_fraction, folded, layout_patch (the input patch it
+//     is, or a piece of)}] per patch of the fitted network (more than the
+//     input's after splits),
 //     max_edge_deviation, tolerance, tolerance_met (both directions within
 //     tolerance and coverage >= 0.999), creased_patches,
-//     folded_patches, max_deviation_uncreased, tolerance_met_uncreased, rounds, uncoupled_patches, max_seam_gap, max_seam_angle_deg (smooth seams,
+//     folded_patches, max_deviation_uncreased, tolerance_met_uncreased, rounds,
+//     splits [{patch, layout_patch, direction ('u': along u = at, 'v'), at,
+//     deviation_before, reason, strip, new_patches, closed_strip, round}]
+//     (fit_patch_network.h's PatchSplit), rejected_splits (the same, for
+//     splits tried and undone: their refit did not help), uncoupled_patches, max_seam_gap, max_seam_angle_deg (smooth seams,
 //     middle of each seam), max_seam_angle_deg_full (whole seam),
 //     max_seam_angle_deg_regular (whole seams between valence-4 vertices),
 //     max_sharp_angle_deg, smooth_seams, sharp_seams, boundary_edges, faces,
@@ -48,6 +55,8 @@
 //     With return_patches=True also "patches": per network patch
 //     {"nu", "nv", "control": ((nu + 3) * (nv + 3), 3) array, row i along u,
 //     index i * (nv + 3) + j} (the uniform clamped bicubic of bspline.h).
+//     With return_network=True also "network": the network fitted, in the
+//     input's form (the input itself when no split changed it).
 //   Runs without the GIL. Bad networks raise InputError.
 //
 // fit_deviation(surface, patches, tolerance, spacing=0, chord=0) -> dict
@@ -158,6 +167,45 @@ py::dict patch_dict(const BSplinePatch& P) {
   return d;
 }
 
+py::array_t<double> points_array(std::vector<Vec3> points) {
+  const auto n = static_cast<py::ssize_t>(points.size());
+  return array_owning<double>(std::move(points), {n, py::ssize_t(3)});
+}
+
+// The fitted network in network_from's form (after splits).
+py::dict network_dict(const PatchNetwork& n) {
+  py::list edges, patches;
+  for (const NetworkEdge& E : n.edges) {
+    py::dict e;
+    e["points"] = points_array(E.points);
+    e["vertices"] = py::make_tuple(E.v0, E.v1);
+    e["sharp"] = E.sharp, e["boundary"] = E.boundary;
+    edges.append(e);
+  }
+  for (const NetworkPatch& P : n.patches) {
+    py::dict p;
+    p["edges"] = P.edges, p["reversed"] = P.reversed, p["corners"] = P.corners;
+    p["vertices"] = points_array(P.mesh.positions);
+    std::vector<Tri> triangles = P.mesh.triangles;
+    p["triangles"] = array_owning<Index>(std::move(triangles), {P.mesh.num_triangles(), py::ssize_t(3)});
+    patches.append(p);
+  }
+  py::dict d;
+  d["vertices"] = points_array(n.vertices);
+  d["edges"] = edges, d["patches"] = patches;
+  return d;
+}
+
+py::dict split_dict(const PatchSplit& s) {
+  py::dict d;
+  d["patch"] = s.patch, d["layout_patch"] = s.layout_patch;
+  d["direction"] = s.direction == 0 ? "u" : "v";
+  d["at"] = s.at, d["deviation_before"] = s.deviation_before, d["reason"] = s.reason;
+  d["strip"] = s.strip, d["new_patches"] = s.new_patches;
+  d["closed_strip"] = s.closed_strip, d["round"] = s.round;
+  return d;
+}
+
 py::array_t<double> double_array(const std::vector<double>& v) {
   return py::array_t<double>(static_cast<py::ssize_t>(v.size()), v.data());
 }
@@ -218,6 +266,9 @@ FitOptions options_from(const py::kwargs& kw) {
     else if (key == "vertex_tangent_planes") o.vertex_tangent_planes = py::cast<bool>(v);
     else if (key == "deviation_spacing") o.deviation.spacing = py::cast<double>(v);
     else if (key == "deviation_chord") o.deviation.chord = py::cast<double>(v);
+    else if (key == "split_patches") o.split_patches = py::cast<bool>(v);
+    else if (key == "max_splits") o.max_splits = py::cast<int>(v);
+    else if (key == "split_rounds") o.split_rounds = py::cast<int>(v);
     else if (key == "progress") o.progress = v.is_none() ? nullptr : py::cast<Progress*>(v);
     else throw InputError("refit: unknown option '" + key + "'");
   }
@@ -229,7 +280,7 @@ FitOptions options_from(const py::kwargs& kw) {
 void bind_surfacing(py::module_& m) {
   m.def("refit", [](const Surface& surface, const py::dict& network, std::optional<double> tolerance,
                     std::optional<std::string> step_path, bool return_brep, bool return_patches,
-                    const py::kwargs& kw) {
+                    bool return_network, const py::kwargs& kw) {
         FitOptions options = options_from(kw);
         if (tolerance) {
           if (!(*tolerance > 0)) throw InputError("refit: the tolerance must be positive");
@@ -270,6 +321,7 @@ void bind_surfacing(py::module_& m) {
           p["creased"] = f.creased();
           p["flipped_fraction"] = f.flipped_fraction;
           p["folded"] = f.folded();
+          p["layout_patch"] = f.layout_patch;
           per_patch.append(p);
         }
         d["per_patch"] = per_patch;
@@ -281,6 +333,12 @@ void bind_surfacing(py::module_& m) {
         d["max_deviation_uncreased"] = r.max_deviation_uncreased;
         d["tolerance_met_uncreased"] = r.tolerance_met_uncreased;
         d["rounds"] = r.rounds;
+        py::list splits;
+        for (const PatchSplit& s : r.splits) splits.append(split_dict(s));
+        d["splits"] = splits;
+        py::list rejected;
+        for (const PatchSplit& s : r.rejected_splits) rejected.append(split_dict(s));
+        d["rejected_splits"] = rejected;
         d["uncoupled_patches"] = r.uncoupled_patches;
         d["max_seam_gap"] = r.max_seam_gap;
         d["max_seam_angle_deg"] = r.max_seam_angle_deg;
@@ -304,6 +362,7 @@ void bind_surfacing(py::module_& m) {
         d["timings_ms"] = timings;
         d["time_s"] = total_s;
         if (return_brep) d["brep"] = brep;
+        if (return_network) d["network"] = result.network ? py::object(network_dict(*result.network)) : py::object(network);
         if (return_patches) {
           py::list patches;
           for (const BSplinePatch& P : result.surfaces) patches.append(patch_dict(P));
@@ -311,7 +370,7 @@ void bind_surfacing(py::module_& m) {
         }
         return d;
       }, py::arg("surface"), py::arg("network"), py::arg("tolerance") = py::none(), py::arg("step_path") = py::none(),
-      py::arg("return_brep") = false, py::arg("return_patches") = false,
+      py::arg("return_brep") = false, py::arg("return_patches") = false, py::arg("return_network") = false,
       "Fit B-spline patches to a quad patch network, sew them, optionally write STEP AP214 (see bind_surfacing.cpp)");
 
   m.def("fit_deviation", [](const Surface& surface, const py::list& patches, double tolerance, double spacing,

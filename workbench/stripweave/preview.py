@@ -648,13 +648,17 @@ def patch_deviation_tints(details, fit, triangle_count, uncovered=None):
     patch; a triangle more than UNCOVERED_FRACTION uncovered is UNCOVERED, unless its patch
     was not fitted (that patch's own colour says more)."""
     quads = [i for i, p in enumerate(details["patches"]) if p["quad"]]
-    if len(quads) != len(fit["per_patch"]):
-        raise ValueError(f"the fit has {len(fit['per_patch'])} patches, the layout {len(quads)} clean quads")
-    colour = np.array([NOT_FITTED] * len(details["patches"]) + [(np.nan,) * 3], float)
+    # A layout patch the fit split (its "layout_patch" pieces) shows its worst piece.
     tol = float(fit["tolerance"])
-    for k, i in enumerate(quads):
-        p = fit["per_patch"][k]
-        colour[i] = deviation_colour(max(p["max_deviation"], p.get("side_deviation", 0.0)) / tol)
+    ratio = {}
+    for k, p in enumerate(fit["per_patch"]):
+        j = p.get("layout_patch", k)
+        ratio[j] = max(ratio.get(j, 0.0), max(p["max_deviation"], p.get("side_deviation", 0.0)) / tol)
+    if len(ratio) != len(quads):
+        raise ValueError(f"the fit has {len(ratio)} layout patches, the layout {len(quads)} clean quads")
+    colour = np.array([NOT_FITTED] * len(details["patches"]) + [(np.nan,) * 3], float)
+    for i, k in zip(quads, sorted(ratio)):
+        colour[i] = deviation_colour(ratio[k])
     patch = np.asarray(details["patch_of_triangle"])
     parent = np.asarray(details["parent_triangle"])
     tints = np.full((triangle_count, 3), np.nan)

@@ -22,7 +22,9 @@ were not fitted: their part of the source shows as uncovered).
 Where the tolerance is missed, the per-patch figures say why (problem_of): a patch the
 layout lays over a crease of the source (a C2 patch cannot follow it: the strips should
 run along the feature curve), a fit that folds (turns its back on the source), or plain
-accuracy (the spans ran out).
+accuracy (the spans ran out). Where the spans ran out, the patch's dual strip is split
+along an isoline of its square map and fitted again (the native fit does it): "splits"
+lists each, and per_patch then holds the pieces, each with its "layout_patch".
 Keyword options go to the native fit (relative_tolerance, max_spans, seam_weight,
 edge_smoothing, ...). Everything geometric happens in the native library.
 """
@@ -38,7 +40,12 @@ SHELL_KEYS = ("tolerance", "valid_shell", "closed", "volume", "faces")
 PATCH_KEYS = ("max_deviation", "rms_deviation", "max_deviation_source_to_patch", "max_deviation_patch_to_source",
               "rms_deviation_source_to_patch", "rms_deviation_patch_to_source", "source_area",
               "fit_max_deviation", "nu", "nv", "samples", "side_deviation", "crease_deg",
-              "crease_length", "creased", "flipped_fraction", "folded")
+              "crease_length", "creased", "flipped_fraction", "folded", "layout_patch")
+# A split of a dual strip where a patch missed the tolerance at its most spans (native
+# split_strip.h): the patch, the layout patch it is, the isoline (direction "u": u = at),
+# why, its deviation then, the patches the split crossed and their new pieces.
+SPLIT_KEYS = ("patch", "layout_patch", "direction", "at", "reason", "deviation_before", "strip", "new_patches",
+              "closed_strip", "round")
 # Beyond design.md's: where the tolerance is missed and why, how the deviation was
 # measured (samples, the bound on each measured distance's error, the refinement's own
 # measure at its fit samples), and the refit's own time.
@@ -92,6 +99,8 @@ def fit_report(result):
     fit["per_patch"] = [{**{k: p[k] for k in PATCH_KEYS}, "problem": problem_of(p, result["tolerance"])}
                         for p in result["per_patch"]]
     fit.update({k: result[k] for k in EXTRA_KEYS})
+    for key in ("splits", "rejected_splits"):
+        fit[key] = [{k: s[k] for k in SPLIT_KEYS} for s in result.get(key, [])]
     fit["left_out_patches"] = int(result.get("left_out_patches", 0))
     fit["tolerance"] = float(result["tolerance"])
     fit["tolerance_met"] = bool(result["tolerance_met"])
@@ -125,6 +134,8 @@ def format_fit(fit):
         if creased:
             line += f", {len(creased)} of them lie over a crease (layout: {', '.join(map(str, creased[:8]))}"
             line += ", ...)" if len(creased) > 8 else ")"
+    if fit.get("splits"):
+        line += f"; {len(fit['splits'])} strip splits ({len(fit['per_patch'])} patches fitted)"
     if fit.get("left_out_patches"):
         line += f"; {fit['left_out_patches']} layout patches are not clean quads and were left out"
     return line

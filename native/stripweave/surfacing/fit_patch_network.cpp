@@ -9,6 +9,7 @@
 #include "stripweave/surfacing/patch_parameterization.h"
 #include "stripweave/surfacing/patch_shell.h"
 #include "stripweave/surfacing/source_projection.h"
+#include "stripweave/surfacing/split_strip.h"
 
 #include <algorithm>
 #include <chrono>
@@ -116,14 +117,15 @@ void report_deviation(const Surface& surface, const std::vector<BSplinePatch>& s
   report.tolerance_met_uncreased = report.max_deviation_uncreased <= tol && uncreased_edges <= tol;
 }
 
+constexpr int kMaxRounds = 40;  // refinement rounds of one fit
+
 double angle_deg(const Vec3& a, const Vec3& b) {
   if (a.isZero() || b.isZero()) return 0;
   return std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / M_PI;
 }
 
-}  // namespace
-
-FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network, const FitOptions& options) {
+// Steps 1 to 5 (the header) on one network, without the shell.
+FitResult fit_network(const Surface& surface, const PatchNetwork& network, const FitOptions& options) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   FitResult result;
@@ -570,7 +572,6 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
     return worst;
   };
 
-  const int kMaxRounds = 40;
   for (int outer = 0; outer < 3; ++outer) {
     do {
       check();
@@ -736,9 +737,201 @@ FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network,
     }
   }
   watch.lap("measure");
-  checkpoint("sewing the shell", 0.93, 1.0);
+  report.time_s = std::chrono::duration<double>(Clock::now() - start).count();
+  return result;
+}
+
+double polyline_length(const std::vector<Vec3>& points) {
+  double length = 0;
+  for (size_t k = 1; k < points.size(); ++k) length += (points[k] - points[k - 1]).norm();
+  return length;
+}
+
+// How far a patch misses: the reported two-sided deviation, or the
+// refinement's own measure at its fit samples.
+double patch_miss(const PatchFitFigures& f) { return std::max(f.max_deviation, f.fit_max_deviation); }
+
+// A patch whose strip is to be split (step 6), and why.
+struct SplitChoice {
+  StripCut cut;
+  double deviation = 0;
+  std::string reason;
+};
+
+// The patches above tolerance whose spans ran out (or whose fit ran out of
+// rounds), worst first; a patch over a crease is left alone (a layout
+// problem: the strips should run along the crease, and no split mends
+// that). The cut refines the saturated direction, or, both saturated, the
+// one whose spans are longer on the part; it runs through the worst
+// sample, kept within the middle half of the patch so that both pieces
+// get a fair share of it.
+std::vector<SplitChoice> split_choices(const PatchNetwork& net, const FitReport& report, const FitOptions& options) {
+  std::vector<SplitChoice> out;
+  const double tol = report.tolerance;
+  const bool rounds_out = report.rounds >= kMaxRounds;
+  for (Index p = 0; p < Index(net.patches.size()); ++p) {
+    const PatchFitFigures& f = report.per_patch[p];
+    const double deviation = patch_miss(f);
+    const bool saturated[2] = {f.nu >= options.max_spans, f.nv >= options.max_spans};
+    if (deviation <= tol || f.creased() || !(saturated[0] || saturated[1] || rounds_out)) continue;
+    const NetworkPatch& P = net.patches[p];
+    auto length = [&](int s) { return polyline_length(net.edges[P.edges[s]].points); };
+    const double span_u = (length(0) + length(2)) / (2.0 * std::max(f.nu, 1));
+    const double span_v = (length(1) + length(3)) / (2.0 * std::max(f.nv, 1));
+    const int d = saturated[0] != saturated[1] ? (saturated[0] ? 0 : 1) : (span_u >= span_v ? 0 : 1);
+    std::ostringstream why;
+    why << "accuracy: " << deviation << " > tolerance " << tol << " at " << f.nu << " x " << f.nv << " spans ("
+        << (rounds_out ? "the refinement ran out of rounds" : "max_spans " + std::to_string(options.max_spans))
+        << ")";
+    out.push_back({{p, d, std::clamp(f.worst_uv[d], 0.25, 0.75)}, deviation, why.str()});
+  }
+  std::stable_sort(out.begin(), out.end(), [](const SplitChoice& a, const SplitChoice& b) {
+    return a.deviation > b.deviation;
+  });
+  return out;
+}
+
+// The splits of one round, applied to a copy of the network.
+struct SplitRound {
+  std::shared_ptr<PatchNetwork> net;
+  std::vector<Index> layout;         // per patch, the input network's patch
+  std::vector<SplitChoice> choices;  // the cuts made, one per split
+  std::vector<PatchSplit> splits;
+  std::vector<bool> touched;         // per patch: in a split strip (a piece of it)
+  std::vector<Index> base;           // per patch, the patch of the round's base network it is (a piece of)
+};
+
+// One split per strip: a patch a split crossed is fitted again before it is
+// judged again.
+SplitRound apply_splits(const PatchNetwork& base, const std::vector<Index>& layout,
+                        const std::vector<SplitChoice>& choices, int round, Index budget) {
+  SplitRound r{std::make_shared<PatchNetwork>(base), layout, {}, {}, std::vector<bool>(base.patches.size(), false),
+               std::vector<Index>(base.patches.size())};
+  std::iota(r.base.begin(), r.base.end(), 0);
+  for (const SplitChoice& c : choices) {
+    if (r.touched[c.cut.patch] || Index(r.splits.size()) >= budget) continue;
+    const StripSplit s = split_strip(*r.net, c.cut);
+    if (!s.done) continue;
+    r.touched.resize(r.net->patches.size(), true);
+    for (Index q : s.patches) {  // new_patches, in order
+      r.touched[q] = true;
+      r.layout.push_back(r.layout[q]);
+      r.base.push_back(r.base[q]);
+    }
+    PatchSplit p;
+    p.patch = c.cut.patch, p.layout_patch = r.layout[c.cut.patch];
+    p.direction = c.cut.direction, p.at = c.cut.at;
+    p.deviation_before = c.deviation, p.reason = c.reason;
+    p.strip = s.patches, p.new_patches = s.new_patches, p.closed_strip = s.closed, p.round = round;
+    r.choices.push_back(c);
+    r.splits.push_back(std::move(p));
+  }
+  return r;
+}
+
+// How far a patch itself lies from the source: its own samples both ways
+// at the fit, its surface against the source; not the source nearest to it,
+// which a hole or a neighbour elsewhere may decide.
+double patch_own_miss(const FitReport& r, Index p) {
+  return std::max(r.per_patch[p].fit_max_deviation, r.deviation.per_patch[p].max_patch_to_source);
+}
+
+// Whether a split helped: the patch it was made for came closer to the
+// source (the larger of its two pieces against it before), and no other
+// patch of its strip came to lie further from it than both the tolerance
+// and itself before. Each patch by its own distance (patch_own_miss): a
+// hole next to it is no business of the split. (And not the strip's
+// largest: another patch of the strip, over a crease, may hold it whatever
+// the split does.)
+// `base`: per patch after, the patch before it is (a piece of): a strip may
+// run through pieces of another split of the round.
+bool strip_helped(const FitReport& before, const FitReport& after, const std::vector<Index>& base,
+                  const PatchSplit& s) {
+  for (size_t k = 0; k < s.strip.size(); ++k) {
+    const Index q = s.strip[k], n = s.new_patches[k], b = base[q];
+    const double is = std::max(patch_own_miss(after, q), patch_own_miss(after, n)), was = patch_own_miss(before, b);
+    if (q == s.patch ? is >= was : is > std::max(was, before.tolerance)) return false;
+  }
+  return true;
+}
+
+// The network's largest patch_own_miss.
+double network_own_miss(const FitReport& r) {
+  double worst = 0;
+  for (Index p = 0; p < Index(r.per_patch.size()); ++p) worst = std::max(worst, patch_own_miss(r, p));
+  return worst;
+}
+
+// A round is kept when its refit meets the tolerance, or every split of it
+// helped without raising the network's largest (own) deviation or folding
+// more patches.
+bool round_helped(const FitReport& before, const FitReport& after, const SplitRound& r) {
+  if (after.tolerance_met) return true;
+  for (const PatchSplit& s : r.splits)
+    if (!strip_helped(before, after, r.base, s)) return false;
+  return network_own_miss(after) <= network_own_miss(before) && after.folded_patches <= before.folded_patches;
+}
+
+// Step 6: split and refit while patches miss the tolerance at their most
+// spans. The splits of a round that did not help (an error along a seam,
+// which every piece keeps) are undone and the rest refitted; a round that does not help is undone whole and the splitting
+// stops: a miss no split mends costs a refit or two, never a worse fit.
+// `layout`: per patch of the fitted network, the input network's patch.
+void split_and_refit(const Surface& surface, const PatchNetwork& network, const FitOptions& options,
+                     FitResult& result, std::vector<Index>& layout) {
+  std::shared_ptr<PatchNetwork> net;  // the split network, null until a round is kept
+  std::vector<PatchSplit> kept, rejected;
+  double other_fits_ms = 0;
+  for (int round = 1; round <= options.split_rounds && Index(kept.size()) < options.max_splits; ++round) {
+    const PatchNetwork& base = net ? *net : network;
+    const Index budget = options.max_splits - Index(kept.size());
+    SplitRound trial = apply_splits(base, layout, split_choices(base, result.report, options), round, budget);
+    if (trial.splits.empty()) break;
+    FitResult refit = fit_network(surface, *trial.net, options);
+    std::vector<SplitChoice> good;
+    for (size_t k = 0; k < trial.splits.size(); ++k) {
+      if (strip_helped(result.report, refit.report, trial.base, trial.splits[k])) good.push_back(trial.choices[k]);
+      else rejected.push_back(trial.splits[k]);
+    }
+    if (!good.empty() && good.size() < trial.splits.size()) {
+      other_fits_ms += 1e3 * refit.report.time_s;
+      trial = apply_splits(base, layout, good, round, budget);
+      refit = fit_network(surface, *trial.net, options);
+    }
+    if (good.empty() || !round_helped(result.report, refit.report, trial)) {
+      other_fits_ms += 1e3 * refit.report.time_s;
+      if (!good.empty()) rejected.insert(rejected.end(), trial.splits.begin(), trial.splits.end());
+      break;
+    }
+    other_fits_ms += 1e3 * result.report.time_s;
+    result = std::move(refit);
+    net = std::move(trial.net);
+    layout = std::move(trial.layout);
+    kept.insert(kept.end(), trial.splits.begin(), trial.splits.end());
+    if (result.report.tolerance_met) break;
+  }
+  result.report.splits = std::move(kept);
+  result.report.rejected_splits = std::move(rejected);
+  result.network = net;
+  if (other_fits_ms > 0) result.report.timings.emplace_back("other_fits", other_fits_ms);
+}
+
+}  // namespace
+
+FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network, const FitOptions& options) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  FitResult result = fit_network(surface, network, options);
+  std::vector<Index> layout(network.patches.size());
+  std::iota(layout.begin(), layout.end(), 0);
+  if (options.split_patches && !result.report.tolerance_met) split_and_refit(surface, network, options, result, layout);
+  FitReport& report = result.report;
+  for (size_t p = 0; p < report.per_patch.size(); ++p) report.per_patch[p].layout_patch = layout[p];
 
   if (options.build_shell) {
+    if (options.progress) options.progress->stage("sewing the shell", 0.93, 1.0);
+    Stopwatch watch(report.timings);
+    const double diag = network.bbox_diagonal > 0 ? network.bbox_diagonal : 1.0;
     ShellFigures fig;
     result.shell = sew_patch_shell(result.surfaces, 1e-6 * diag, &fig);
     report.faces = fig.faces, report.shells = fig.shells, report.free_edges = fig.free_edges;

@@ -66,6 +66,20 @@
 //      (the fitted normal opposes the patch mesh's), and whether the
 //      tolerance holds on the patches without creases; then the shell
 //      (patch_shell.h).
+//   6. Splits: where a patch still misses the tolerance at max_spans (or the
+//      rounds ran out), its dual strip is split along an isoline of its
+//      square map (split_strip.h) through the worst sample (kept within the
+//      middle half), across the direction whose spans are longest on the
+//      part, one split per strip and round, and the split network is fitted
+//      again (from step 1). A split that did not help (the patch it was
+//      made for no closer to the source, or another patch of its strip
+//      further than both the tolerance and itself before, each patch by its
+//      own distance: fit samples and patch-to-source, not the source a
+//      hole leaves nearest to it) is undone, the others refitted without
+//      it; a round is kept when the refit meets the tolerance, or every
+//      split helped without raising the network's largest such distance or
+//      folding more patches; otherwise it is undone and the splitting stops. Every split is reported (FitReport::splits, and the undone
+//      ones FitReport::rejected_splits).
 // Errors  InputError for an inconsistent network (a side whose mesh
 //         boundary does not carry its edge's polyline, an edge used by more
 //         than two patch sides, ...).
@@ -109,6 +123,13 @@ struct FitOptions {
   bool vertex_tangent_planes = false;
   double crease_angle_deg = 30;      // a dihedral above this inside a patch is a crease (patch_creases.h)
   bool build_shell = true;
+  // Where a patch still misses the tolerance with its spans at max_spans
+  // (or the refinement ran out of rounds), its dual strip is split along an
+  // isoline of the patch's square map (split_strip.h) and the network is
+  // refitted: up to split_rounds times, at most max_splits splits in all.
+  bool split_patches = true;
+  int max_splits = 12;
+  int split_rounds = 4;
   DeviationOptions deviation;        // how the reported deviation is measured (fit_deviation.h)
   // Optional: the stages are reported to it and its cancel() stops the fit
   // (Cancelled is thrown at the next stage or patch, within about a patch's
@@ -137,8 +158,27 @@ struct PatchFitFigures {
   double crease_deg = 0, crease_length = 0;
   Index crease_edges = 0;
   double flipped_fraction = 0;
+  // The input network's patch this one is (a piece of, after splits).
+  Index layout_patch = kInvalid;
   bool creased() const { return crease_edges > 0; }
   bool folded() const { return flipped_fraction > 0; }
+};
+
+// A split of a dual strip (split_strip.h), because `patch` missed the
+// tolerance at its most spans. Patch indices are the network's at the time
+// of the split; a split patch keeps its index for its first piece, so they
+// stay valid in the final network (FitResult::network).
+struct PatchSplit {
+  Index patch = kInvalid;         // the patch that missed
+  Index layout_patch = kInvalid;  // the input network's patch it is (a piece of)
+  int direction = 0;              // 0: along the isoline u = at (refining u), 1: v = at
+  double at = 0.5;
+  double deviation_before = 0;    // the patch's deviation when split (model units)
+  std::string reason;             // why, in words
+  std::vector<Index> strip;       // the patches the split crossed (their first pieces)
+  std::vector<Index> new_patches; // their second pieces
+  bool closed_strip = false;
+  int round = 0;                  // 1 for the splits after the first fit, ...
 };
 
 struct FitReport {
@@ -158,7 +198,10 @@ struct FitReport {
   Index creased_patches = 0, folded_patches = 0;
   double max_deviation_uncreased = 0;
   bool tolerance_met_uncreased = false;
-  int rounds = 0;                     // refinement rounds
+  int rounds = 0;                     // refinement rounds (of the last fit)
+  std::vector<PatchSplit> splits;     // every split of the network fitted, in order (FitOptions::split_patches)
+  // Splits tried and undone: their round's refit did not help (step 6).
+  std::vector<PatchSplit> rejected_splits;
   Index uncoupled_patches = 0;        // patches left without the seam coupling (tolerance first)
   double max_seam_gap = 0;            // between neighbouring patches' shared sides
   double max_seam_angle_deg = 0;      // smooth seams, over [seam_from, seam_to]
@@ -180,6 +223,8 @@ struct FitResult {
   std::vector<BSplinePatch> surfaces;      // per network patch
   FitReport report;
   std::shared_ptr<const PatchShell> shell;  // null unless options.build_shell
+  // The network fitted, when splits changed it (null: the input network).
+  std::shared_ptr<const PatchNetwork> network;
 };
 
 FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network, const FitOptions& options = {});
