@@ -42,6 +42,12 @@ pybind11::array_t<Elem> array_owning(std::vector<T>&& values, std::vector<pybind
   return pybind11::array_t<Elem>(shape, reinterpret_cast<const Elem*>(owned->data()), owner);
 }
 
+// Points as an (n, 3) array that owns them (array_owning).
+inline pybind11::array_t<double> points_array(std::vector<stripweave::Vec3> points) {
+  const auto n = static_cast<pybind11::ssize_t>(points.size());
+  return array_owning<double>(std::move(points), {n, pybind11::ssize_t(3)});
+}
+
 void bind_loops(pybind11::module_& m);
 void bind_field(pybind11::module_& m);   // cross field (paper §6.1)
 void bind_param(pybind11::module_& m);   // global parameterization (§6.1)

@@ -119,14 +119,6 @@ py::list defect_locations(const LayoutDefects& D) {
   return out;
 }
 
-py::array_t<double> points_array(const std::vector<Vec3>& points) {
-  py::array_t<double> a({static_cast<py::ssize_t>(points.size()), py::ssize_t(3)});
-  auto o = a.mutable_unchecked<2>();
-  for (size_t i = 0; i < points.size(); ++i)
-    for (int j = 0; j < 3; ++j) o(i, j) = points[i][j];
-  return a;
-}
-
 struct DesignLayout {
   Computed computed;
   QuadLayout layout;

@@ -167,11 +167,6 @@ py::dict patch_dict(const BSplinePatch& P) {
   return d;
 }
 
-py::array_t<double> points_array(std::vector<Vec3> points) {
-  const auto n = static_cast<py::ssize_t>(points.size());
-  return array_owning<double>(std::move(points), {n, py::ssize_t(3)});
-}
-
 // The fitted network in network_from's form (after splits).
 py::dict network_dict(const PatchNetwork& n) {
   py::list edges, patches;

@@ -331,8 +331,7 @@ class _Weaver:
         return self.work >= reserve * self.options.budget or elapsed() > reserve * self.options.time_limit_s
 
     def why_out(self, elapsed):
-        spent = self.quality_work(elapsed)[0] if self.valid_at else self.work
-        return "work budget" if spent >= self.options.budget else "time limit (safety net)"
+        return "work budget" if self.quality_work(elapsed)[0] >= self.options.budget else "time limit (safety net)"
 
     def check_cancel(self):
         """Raise Cancelled once options.cancel is set (checked before every step that costs work)."""
@@ -658,16 +657,17 @@ def _defects(layout):
 
 def _less_clean(after_layout, after, before_layout, before):
     """Whether a refining strip takes the layout further from clean: worse validity or
-    crease conformity (_less_conforming), more area in defective patches, or more flagged
-    vertices. A defect is never traded for corners: a strip that left one degenerate sliver
-    among 78 patches lowered the mean corner deviation by more than the sliver's four
-    90-degree corners raised it (a waisted solid of revolution), and the layout was no
-    longer clean. Area, not a count: halving a patch that is no quad gives two, and is no
+    crease conformity (_less_conforming), more area in defective patches, more flagged
+    vertices, or more crease inside patches (_creased). A defect is never traded for
+    corners: a strip that left one degenerate sliver among 78 patches lowered the mean
+    corner deviation by more than the sliver's four 90-degree corners raised it (a waisted
+    solid of revolution), and the layout was no longer clean. Area, not a count: halving a patch that is no quad gives two, and is no
     step back (a plate with three holes stopped refining at 17 patches on the count)."""
     (area_after, flagged_after), (area_before, flagged_before) = _defects(after_layout), _defects(before_layout)
     total = sum(p["area"] for p in before_layout.get("patches", ())) or 1.0
+    creased = _creased(before_layout)
     return _less_conforming(after, before) or flagged_after > flagged_before or \
-        area_after > area_before + 1e-6 * total
+        area_after > area_before + 1e-6 * total or _creased(after_layout) > creased + 1e-9 * (1 + creased)
 
 
 def _less_conforming(after, before):
@@ -741,7 +741,6 @@ def _refine(w, ds, options, a, result, elapsed):
             break
         current = w.quality(a, layout)
         base_flaws = flaws(a)
-        creased = _creased(layout)
         # Patches by how much splitting them may gain (_split_need), and per patch the
         # anchors of the loops that would shorten its long sides (_splits).
         # With the corners good enough, only the patches past the area bound are split.
@@ -785,9 +784,7 @@ def _refine(w, ds, options, a, result, elapsed):
             pred_layout, pred = w.predict(proposals[0])
             q = w.quality(pred, pred_layout, base_flaws)
             over = limit and len(pred_layout["patches"]) > limit and len(pred_layout["patches"]) > patches
-            creases = _creased(pred_layout) > creased + 1e-9 * (1 + creased)
-            if pred["colours"]["red"] or _less_clean(pred_layout, pred, layout, a) or q >= current + slack or over \
-                    or creases:
+            if pred["colours"]["red"] or _less_clean(pred_layout, pred, layout, a) or q >= current + slack or over:
                 tried.add(_key(seed[:3]))    # no gain from here in this design
                 continue
             if best is None or q < best[0]:
@@ -805,8 +802,7 @@ def _refine(w, ds, options, a, result, elapsed):
         after_layout = w.layout()
         after = w.assess()
         if after["colours"]["red"] or _less_clean(after_layout, after, layout, a) or \
-                w.quality(after, after_layout, base_flaws) >= current + slack or \
-                _creased(after_layout) > creased + 1e-9 * (1 + creased):
+                w.quality(after, after_layout, base_flaws) >= current + slack:
             w.remove(index)
             continue
         _record(ds, result, _entry(ds, index, "corner deviation", -1, "none", seed, loop.cost, elapsed,

@@ -181,12 +181,8 @@ struct Analysis {
     const Vec3 tangent = A.mesh.positions[path[j]] - A.mesh.positions[path[i]];
     const Index e = A.topology.find_edge(path[i], path[i + 1]);
     Vec3 normal = Vec3::Zero();
-    for (Index t : A.topology.edge_triangles[e]) {
-      if (t == kInvalid) continue;
-      const Tri& f = A.mesh.triangles[t];
-      const Vec3& p0 = A.mesh.positions[f[0]];
-      normal += (A.mesh.positions[f[1]] - p0).cross(A.mesh.positions[f[2]] - p0).normalized();
-    }
+    for (Index t : A.topology.edge_triangles[e])
+      if (t != kInvalid) normal += triangle_normal_area2(A.mesh, t).normalized();
     const Vec3 d = normal.cross(tangent);
     return d.norm() > 0 ? Vec3(d.normalized()) : Vec3::Zero();
   }
