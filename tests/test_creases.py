@@ -209,6 +209,55 @@ def test_a_long_crease_stays_a_crease_on_a_mesh():
     assert int(s.creases.sum()) == int((s.edge_class == 1).sum()) > 0
 
 
+def interior_dihedrals(patch):
+    """The dihedral angles (degrees) at the interior edges of a network patch's mesh."""
+    V, T = np.asarray(patch["vertices"]), np.asarray(patch["triangles"])
+    n = np.cross(V[T[:, 1]] - V[T[:, 0]], V[T[:, 2]] - V[T[:, 0]])
+    n /= np.maximum(np.linalg.norm(n, axis=1), 1e-300)[:, None]
+    faces_of = {}
+    for k, tri in enumerate(T):
+        for a, b in ((tri[0], tri[1]), (tri[1], tri[2]), (tri[2], tri[0])):
+            faces_of.setdefault((min(a, b), max(a, b)), []).append(k)
+    return [math.degrees(math.acos(np.clip(n[f[0]] @ n[f[1]], -1, 1))) for f in faces_of.values() if len(f) == 2]
+
+
+def test_the_refit_sees_no_crease_where_the_surface_has_none():
+    """Scan noise is smooth for the refit too: the patches of a spiked torus mesh fold by more
+    than the crease angle at the spikes, but the surface stage's one crease set is empty, so
+    no patch is reported as laid over a crease (the refit measured its own dihedral angles
+    before, a third crease definition, and flagged every patch holding a spike)."""
+    points, tris = Part.makeTorus(10, 3).tessellate(0.02)
+    v, t = np.array([tuple(p) for p in points]), np.array(tris)
+    v = spiked(v, t, count=24, height=2.0)
+    surface = sw.from_mesh(v, t, target_triangles=0)   # the spikes stay in the solver mesh
+    assert int((surface.edge_class == 1).sum()) == 0
+    meridians = [[(13 * math.cos(a), 13 * math.sin(a), 0, 0, 0, 1)] for a in np.radians([0, 90, 180, 270])]
+    rings = [[(0, 10, 3, 1, 0, 0)], [(0, -10, -3, 1, 0, 0)]]
+    network = DesignSession(surface, Design(meridians + rings)).native.patch_network()
+    assert len(network["patches"]) == 8
+    sharp = sum(sum(a > 30 for a in interior_dihedrals(p)) for p in network["patches"])
+    assert sharp >= 12                                   # the patches do fold at the spikes
+    r = native.refit(surface, network, split_patches=False)
+    assert r["creased_patches"] == 0
+    assert all(p["crease_edges"] == 0 and not p["creased"] for p in r["per_patch"])
+
+
+def test_the_refit_and_the_layout_measure_one_crease_length():
+    """Where the layout lays patches over the capped cylinder's rims, the refit reports the
+    same patches as creased and the same crease length inside each (the rim edges the
+    layout found inside, model units), since both read the surface's crease set."""
+    surface = sw.from_shape(capped_cylinder(5, 20), target_triangles=8000)
+    session = DesignSession(surface, Design([[(5, 0, 10, 0, 0, 1)], [(0, 5, 10, 0, 0, 1)]]))
+    L = session.native.layout()
+    network = session.native.patch_network()
+    assert len(network["patches"]) == len(L["patches"]) == 2
+    r = native.refit(surface, network, split_patches=False)
+    fitted = sorted(p["crease_length"] for p in r["per_patch"])
+    laid = sorted(p["crease_length"] for p in L["patches"])
+    assert fitted == pytest.approx(laid, rel=1e-6)
+    assert r["creased_patches"] == 2 and all(p["creased"] for p in r["per_patch"])
+
+
 @pytest.fixture(scope="module")
 def torus_one_region():
     session = LoopSession(sw.from_shape(torus(10, 3), target_triangles=16000))

@@ -55,6 +55,7 @@
 #include "stripweave/layout/cut_wedges.h"
 #include "stripweave/layout/layout_defects.h"
 #include "stripweave/layout/regions.h"
+#include "stripweave/surface/creases.h"
 
 #include <array>
 #include <string>
@@ -99,9 +100,8 @@ struct PrimalPatch {
   // patch, not on its sides, normalized units: a patch laid over a crease,
   // which no smooth patch fits.
   double crease_length = 0;
-  // Over a crease: more than 1% of the bounding-box diagonal of it inside
-  // (less is a nick at a corner that the fit absorbs).
-  bool creased() const { return crease_length > 0.01; }
+  // Over a crease: more than kCreasedPatchLength of it inside (creases.h).
+  bool creased() const { return crease_length > kCreasedPatchLength; }
 };
 
 struct QuadLayout {

@@ -36,6 +36,11 @@ namespace stripweave {
 
 constexpr double kMinCreaseLength = 0.03;
 constexpr double kMinCreaseSpan = 0.1;
+// A patch lies over a crease when more than this length of crease (normalized
+// units: a fraction of the bounding-box diagonal) runs inside it; less is a
+// nick at a corner that the fit absorbs. The layout (PrimalPatch::creased)
+// and the refit (PatchFitFigures::creased) judge by this one figure.
+constexpr double kCreasedPatchLength = 0.01;
 
 void keep_crease_curves(const TriangleMesh& mesh, const MeshTopology& topo, std::vector<EdgeClass>& classes,
                         std::vector<FeatureCurve>& curves, std::vector<Index>& edge_curve);

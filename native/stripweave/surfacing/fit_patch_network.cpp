@@ -2,6 +2,7 @@
 
 #include "stripweave/core/error.h"
 #include "stripweave/core/parallel.h"
+#include "stripweave/surface/creases.h"
 #include "stripweave/surfacing/edge_curves.h"
 #include "stripweave/surfacing/fit_deviation.h"
 #include "stripweave/surfacing/patch_creases.h"
@@ -655,14 +656,18 @@ FitResult fit_network(const Surface& surface, const PatchNetwork& network, const
   checkpoint("reporting", 0.6, 0.62);
 
   // --- 5. report ------------------------------------------------------------
-  // Per patch: its edge curves, creases of the layout under it, and where
-  // the fit turns its back on the source (patch_creases.h).
+  // Per patch: its edge curves, the part's creases under it (the surface's
+  // one crease set) and where the fit turns its back on the source
+  // (patch_creases.h).
+  const SegmentLocator creases = crease_locator(surface);
+  const CreaseTest crease_test{options.crease_angle_deg, 1e-6 * diag};
   for (Index p = 0; p < nP; ++p) {
     const NetworkPatch& P = network.patches[p];
     PatchFitFigures& f = report.per_patch[p];
     for (Index e : P.edges) f.side_deviation = std::max(f.side_deviation, edge_dev[e]);
-    const PatchCreases c = patch_creases(P.mesh, options.crease_angle_deg);
+    const PatchCreases c = patch_creases(P.mesh, creases, crease_test);
     f.crease_deg = c.max_dihedral_deg, f.crease_edges = c.crease_edges, f.crease_length = c.crease_length;
+    f.over_crease = c.crease_length > kCreasedPatchLength * diag;
     // Centroid samples follow the vertex samples, one per triangle.
     const TriangleMesh& m = moved[p].num_vertices() ? moved[p] : P.mesh;
     const Index nv = m.num_vertices();

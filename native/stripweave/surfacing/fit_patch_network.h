@@ -121,7 +121,7 @@ struct FitOptions {
   // it leaves a cusp by one corner of a patch refined to 24 x 24 spans on
   // few samples (179 deg at one seam point, 4.4 without).
   bool vertex_tangent_planes = false;
-  double crease_angle_deg = 30;      // a dihedral above this inside a patch is a crease (patch_creases.h)
+  double crease_angle_deg = 30;      // a fold of a patch mesh this sharp by a crease lies over it (patch_creases.h)
   bool build_shell = true;
   // Where a patch still misses the tolerance with its spans at max_spans
   // (or the refinement ran out of rounds), its dual strip is split along an
@@ -157,10 +157,11 @@ struct PatchFitFigures {
   // the fitted surface's normal at their centroid's (u, v)).
   double crease_deg = 0, crease_length = 0;
   Index crease_edges = 0;
+  bool over_crease = false;  // crease_length over kCreasedPatchLength of the diagonal (creases.h)
   double flipped_fraction = 0;
   // The input network's patch this one is (a piece of, after splits).
   Index layout_patch = kInvalid;
-  bool creased() const { return crease_edges > 0; }
+  bool creased() const { return over_crease; }
   bool folded() const { return flipped_fraction > 0; }
 };
 
