@@ -564,3 +564,33 @@ def test_a_patch_target_asks_for_density_past_good_corners():
     assert 15 <= twenty["patches"] <= 25 and twenty["clean"]
     assert eighty["patches"] >= default["patches"] + 6 and eighty["clean"]
     assert eighty["work"] > WeaveOptions().budget        # the budget grew with the target
+
+
+def height_field(n=40, size=20.0):
+    """An open wavy sheet over a square (vertices, triangles): smooth, with nearly uniform
+    g' costs over wide stretches, like terrain or a scan's smooth parts."""
+    xs = np.linspace(-size / 2, size / 2, n + 1)
+    X, Y = np.meshgrid(xs, xs)
+    Z = 1.5 * np.sin(0.5 * X) * np.cos(0.4 * Y) + 0.8 * np.sin(0.3 * X + 0.7 * Y)
+    v = np.stack([X.ravel(), Y.ravel(), Z.ravel()], axis=1)
+    t = []
+    for i in range(n):
+        for j in range(n):
+            a = i * (n + 1) + j
+            t += [(a, a + 1, a + n + 2), (a, a + n + 2, a + n + 1)]
+    return v, np.array(t)
+
+
+def test_seed_points_ask_the_principal_directions_first():
+    """Once an all-directions query at a seed point runs past the query cap, the weave asks
+    the two principal directions first (one-direction queries) for the rest of its run: on
+    a wavy sheet, whose g' costs are nearly uniform, the all-directions search ran past the
+    cap at 4 seed points (16.5 work units each for nothing), now at 1."""
+    v, t = height_field()
+    ds = DesignSession(sw.from_mesh(v, t), Design([]))
+    result = auto_weave(ds, WeaveOptions())
+    assert result.capped_queries <= 1
+    a = result.assessment
+    assert a["colours"]["red"] == 0 and a["crossings"] >= 1
+    with pytest.raises(native.InputError, match="seed directions"):
+        WeaveOptions(seed_directions="diagonal").check()

@@ -116,6 +116,11 @@ class WeaveOptions:
     refine_query_polls: int = 100   # ... its loop queries stopped past this work (0: query_polls)
     refine_candidates: int = 2      # ... predicting this many candidate strips per added one, the best derived
     query_polls: int = 400          # a loop query doing more work is stopped (no proposal there; 0: no cap)
+    seed_directions: str = "adaptive"   # at a seed point: "all" (the best loop over all directions, the
+                                    # principal directions where it gives none), "principal" (the loops
+                                    # along its two principal directions first), or "adaptive" ("all"
+                                    # until an all-directions query runs past query_polls, then
+                                    # "principal"); see proposals()
     query_timeout_s: float = 20.0   # a loop query running longer is cancelled (wall-clock safety net)
     symmetry_tolerance: float = 1e-3  # ... a loop that is its own image must be so within this (diagonals)
     symmetry: tuple = ()            # symmetries (symmetry.py dicts, model units): every added strip comes
@@ -140,6 +145,9 @@ class WeaveOptions:
         if not self.red_reserve >= 1 or not math.isfinite(self.red_reserve):
             raise native.InputError(f"the red reserve must be a finite number of budgets, 1 or more, "
                                     f"got {self.red_reserve}")
+        if self.seed_directions not in ("adaptive", "principal", "all"):
+            raise native.InputError(f"seed directions must be 'adaptive', 'principal' or 'all', "
+                                    f"got {self.seed_directions!r}")
         if not self.band >= 0 or not 0 <= self.colour_share <= 1 or self.query_polls < 0:
             raise native.InputError("band and query polls must be 0 or more, the colour share within [0, 1]")
         unknown = set(self.colours) - set(COLOURS)
@@ -155,6 +163,7 @@ class WeaveResult:
     time_ms: float = 0.0
     work: float = 0.0                            # work units spent (module doc)
     cancelled_queries: int = 0                   # loop queries cut by the timeout (machine-dependent)
+    capped_queries: int = 0                      # loop queries stopped by query_polls (no proposal there)
 
 
 def extra_extrema(region):
@@ -288,6 +297,8 @@ class _Weaver:
         self.work = 0.0             # units spent (module doc)
         self.spent = {}             # units by step (assess, predict, layout, derive, query): what dominates
         self.cancelled = 0          # loop queries cut by the timeout
+        self.capped = 0             # loop queries stopped by query_polls
+        self.capped_all_directions = False   # an all-directions query ran past query_polls (proposals)
         self.valid_at = None        # (work, seconds) when the design first had no red region
         self.user_strips = len(ds.design.strips)
         self.groups = {}            # index of an added strip -> 1 + its symmetric images, added after it
@@ -425,15 +436,40 @@ class _Weaver:
         return True
 
     def proposals(self, point, alternatives):
-        """Loops through the point, best first; when the all-directions query gives nothing in
-        time, the best loops along the two principal directions there (one-direction queries
-        are fast)."""
+        """Loops through the point, best first.
+
+        A seed point (no direction) gets the best loop over all directions, or, in the
+        "principal" order, the best loops along its two principal directions, the
+        all-directions search only where neither gives one. A good dual loop follows a
+        principal direction (§5, criterion 1; the q term of eq. 1 pulls it there), so the
+        best loop through a point leaves it near one of the two; a one-direction query
+        settles one start's search, while the all-directions one searches every start
+        direction until the best loop closes. On parts whose g' costs are nearly uniform
+        (flat faces, terrain, a scan's smooth stretches) that search ran past query_polls at
+        most seed points and gave nothing for 4 to 16 work units, three to eight times the
+        two directional queries (traced on a pentagonal pyramid, a terrain and a face scan:
+        40 to 63 % of all query work, and weaving ended on its budget after 2 or 3 strips).
+        Whether it closes within the cap is a property of the part's metric, not of the
+        point, so "adaptive" (the default) turns to the principal order for the rest of the
+        weave at the first all-directions query that runs past the cap."""
         self.check_cancel()
-        found = self._proposals(point, alternatives)
-        if not found and len(point) == 3:
-            for anchor in native.principal_anchors(self.ds.surface, list(point)):
-                found += self._proposals(anchor, 1)
-            found.sort(key=lambda loop: loop.cost)
+        if len(point) != 3:
+            return self._proposals(point, alternatives)
+        order = self.options.seed_directions
+        if order == "all" or (order == "adaptive" and not self.capped_all_directions):
+            found = self._proposals(point, alternatives)
+            if found or not self.session.query_limited:
+                return found or self._along_principal_directions(point)
+            self.capped_all_directions = True
+            return self._along_principal_directions(point)
+        found = self._along_principal_directions(point)
+        return found or self._proposals(point, alternatives)
+
+    def _along_principal_directions(self, point):
+        found = []
+        for anchor in native.principal_anchors(self.ds.surface, list(point)):
+            found += self._proposals(anchor, 1)
+        found.sort(key=lambda loop: loop.cost)
         return found
 
     def _proposals(self, point, alternatives):
@@ -452,6 +488,8 @@ class _Weaver:
         except native.Cancelled:
             if not self.session.query_limited:   # the clock, not the work cap, stopped it
                 self.cancelled += 1
+            else:
+                self.capped += 1
             return []
         finally:
             self.spend("query", WORK_QUERY + WORK_PER_POLL * self.session.last_query_polls)
@@ -1037,7 +1075,7 @@ def _weave(w, ds, options):
         a = _refine(w, ds, options, a, result, elapsed)
     result.assessment = a
     result.time_ms = elapsed() * 1000.0
-    result.work, result.cancelled_queries = w.work, w.cancelled
+    result.work, result.cancelled_queries, result.capped_queries = w.work, w.cancelled, w.capped
     _say(options, f"{result.stopped}: {len(ds.design.strips)} strips ({user_strips} given, "
                   f"{len(result.log)} added), red {a['colours']['red']}, crease {a['colours']['crease']}, "
                   f"orange {a['colours']['orange']}, "
