@@ -67,9 +67,16 @@
 //   triangle_uncovered, measurement_error, spacing, per_patch [{max_deviation,
 //   max/rms_deviation_source_to_patch, max/rms_deviation_patch_to_source,
 //   source_area}]).
+//
+// project_to_face(surface, face, points, near=0) -> (n, 3) array
+//   the points' foot points on B-rep face `face` of the surface's source
+//   (occt/brep_source.h's project_to_face, on a copy of the B-rep of its
+//   own): near = 0 each by the global search; near > 0 in order, each
+//   from the previous answer (the refit's warm start). For tests.
 #include "bind.h"
 
 #include "stripweave/core/error.h"
+#include "stripweave/occt/brep_source.h"
 #include "stripweave/surface/surface.h"
 #include "stripweave/surfacing/fit_patch_network.h"
 #include "stripweave/surfacing/patch_shell.h"
@@ -273,6 +280,17 @@ FitOptions options_from(const py::kwargs& kw) {
 }  // namespace
 
 void bind_surfacing(py::module_& m) {
+  m.def("project_to_face", [](const Surface& surface, Index face, const py::array_t<double>& points, double near) {
+        if (!surface.brep) throw InputError("project_to_face: the surface has no B-rep source");
+        if (face < 0 || face >= surface.brep->num_faces()) throw InputError("project_to_face: no such face");
+        const auto x = points.unchecked<2>();
+        if (x.shape(1) != 3) throw InputError("project_to_face: points must be (n, 3)");
+        const auto brep = surface.brep->thread_copy();
+        std::vector<Vec3> out;
+        for (py::ssize_t i = 0; i < x.shape(0); ++i)
+          out.push_back(brep->project_to_face(face, Vec3(x(i, 0), x(i, 1), x(i, 2)), nullptr, near));
+        return points_array(std::move(out));
+      }, py::arg("surface"), py::arg("face"), py::arg("points"), py::arg("near") = 0.0);
   m.def("refit", [](const Surface& surface, const py::dict& network, std::optional<double> tolerance,
                     std::optional<std::string> step_path, bool return_brep, bool return_patches,
                     bool return_network, const py::kwargs& kw) {

@@ -17,6 +17,7 @@
 #include <Bnd_Box.hxx>
 #include <Extrema_ExtPC.hxx>
 #include <Geom2d_Curve.hxx>
+#include <GeomAdaptor_Surface.hxx>
 #include <Geom_Surface.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <IGESControl_Reader.hxx>
@@ -411,16 +412,104 @@ Vec3 BrepSource::project_to_edge(Index e, const Vec3& p, double* distance) const
   return best;
 }
 
+namespace {
+
+// The foot point of p on a surface by a local search from `start`: Newton
+// on the squared distance (Gauss-Newton, each step halved until it brings
+// the point nearer), kept within the surface's parameter bounds but along a
+// periodic direction, until the full step, or the last one taken, moves
+// the point by at most 1e-10 of the face's size. False when it does not
+// settle within 30 steps, or no point along a step is nearer while the
+// step is not yet that small.
+// Why not OCCT's NextValueOfUV: it gives up, and searches the whole surface
+// (a grid of distances: milliseconds on a B-spline face), as soon as a step
+// leaves the bounds, which every sample by a face border does when it is
+// projected onto the neighbouring face; this search settles on the border
+// there, the point the global search finds too.
+bool local_foot(ShapeAnalysis_Surface& analyser, const gp_Pnt& p, const gp_Pnt2d& start, double scale,
+                gp_Pnt2d& foot, bool& on_border) {
+  const Handle(GeomAdaptor_Surface)& surface = analyser.Adaptor3d();
+  double u0, u1, v0, v1;
+  analyser.Bounds(u0, u1, v0, v1);
+  const bool periodic_u = surface->IsUPeriodic(), periodic_v = surface->IsVPeriodic();
+  auto clamp = [&](double u, double v) {
+    return gp_Pnt2d(periodic_u ? u : std::clamp(u, u0, u1), periodic_v ? v : std::clamp(v, v0, v1));
+  };
+  gp_Pnt2d uv = clamp(start.X(), start.Y());
+  gp_Pnt S;
+  gp_Vec Su, Sv;
+  surface->D1(uv.X(), uv.Y(), S, Su, Sv);
+  double best = S.SquareDistance(p);
+  const double settled = 1e-10 * scale;
+  for (int it = 0; it < 30; ++it) {
+    const gp_Vec r(S, p);
+    const double a = Su.Dot(Su), b = Su.Dot(Sv), c = Sv.Dot(Sv);
+    const double det = a * c - b * b;
+    if (!(std::abs(det) > 1e-300)) return false;
+    const double gu = Su.Dot(r), gv = Sv.Dot(r);
+    double du = (c * gu - b * gv) / det, dv = (a * gv - b * gu) / det;
+    // On a border with the step pointing out: that coordinate stays, the
+    // other one follows the distance along the border (a clamped joint step
+    // could stall short of the border's foot point).
+    const bool out_u = !periodic_u && ((uv.X() <= u0 && du < 0) || (uv.X() >= u1 && du > 0));
+    const bool out_v = !periodic_v && ((uv.Y() <= v0 && dv < 0) || (uv.Y() >= v1 && dv > 0));
+    if (out_u && out_v) {
+      foot = uv;
+      on_border = (!periodic_u && (uv.X() <= u0 || uv.X() >= u1)) || (!periodic_v && (uv.Y() <= v0 || uv.Y() >= v1));
+      return true;
+    }
+    if (out_u) du = 0, dv = c > 0 ? gv / c : 0;
+    if (out_v) dv = 0, du = a > 0 ? gu / a : 0;
+    if ((du * Su + dv * Sv).Magnitude() <= settled) {
+      foot = uv;
+      on_border = (!periodic_u && (uv.X() <= u0 || uv.X() >= u1)) || (!periodic_v && (uv.Y() <= v0 || uv.Y() >= v1));
+      return true;
+    }
+    bool better = false;
+    double moved = 0;
+    for (int half = 0; half < 10 && !better; ++half, du *= 0.5, dv *= 0.5) {
+      const gp_Pnt2d next = clamp(uv.X() + du, uv.Y() + dv);
+      gp_Pnt T;
+      gp_Vec Tu, Tv;
+      surface->D1(next.X(), next.Y(), T, Tu, Tv);
+      const double d = T.SquareDistance(p);
+      if (d < best) moved = T.Distance(S), best = d, uv = next, S = T, Su = Tu, Sv = Tv, better = true;
+    }
+    // No nearer point along a step that is not yet negligible: no answer
+    // (the global search decides).
+    if (!better) return false;
+    if (moved <= settled) {
+      foot = uv;
+      on_border = (!periodic_u && (uv.X() <= u0 || uv.X() >= u1)) || (!periodic_v && (uv.Y() <= v0 || uv.Y() >= v1));
+      return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
 Vec3 BrepSource::project_to_face(Index face, const Vec3& p, double* distance, double near, bool* inside) const {
   const Impl& s = *impl_;
   auto& analyser = s.analysers[face];
   if (!analyser) analyser = std::make_unique<ShapeAnalysis_Surface>(BRep_Tool::Surface(s.face(face)));
+  auto size_of = [&](Index f) {
+    if (s.face_size[f] <= 0) s.face_size[f] = std::max(face_bounding_box(f).diagonal(), 1e-300);
+    return s.face_size[f];
+  };
   Vec3 q = p;
   if (inside) *inside = true;
   try {
-    const gp_Pnt2d uv = near > 0 && s.has_last_uv[face]
-                            ? analyser->NextValueOfUV(s.last_uv[face], to_pnt(p), 1e-9, near)
-                            : analyser->ValueOfUV(to_pnt(p), 1e-9);
+    gp_Pnt2d uv;
+    // A local answer settled on the surface's border is taken only close by
+    // (a tenth of `near`): farther off, another part of a curved face may be
+    // nearer than the border (one sample in 8,000 on handle.step's crease
+    // neighbours), which only the global search sees.
+    bool on_border = false;
+    const bool local = near > 0 && s.has_last_uv[face] &&
+                       local_foot(*analyser, to_pnt(p), s.last_uv[face], size_of(face), uv, on_border) &&
+                       analyser->Value(uv).Distance(to_pnt(p)) <= (on_border ? 0.1 * near : near);
+    if (!local) uv = analyser->ValueOfUV(to_pnt(p), 1e-9);
     s.last_uv[face] = uv, s.has_last_uv[face] = 1;
     q = to_vec(analyser->Value(uv));
     if (inside) *inside = s.inside_trim(face, analyser->Surface(), uv);

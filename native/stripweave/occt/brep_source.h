@@ -30,10 +30,14 @@
 //       nearest to p, position only: evaluate() without the normal and
 //       curvature, for bulk sampling (the surfacing stage's refit); with
 //       near > 0 the search starts from the face's previous answer (a local
-//       Newton, ShapeAnalysis_Surface::NextValueOfUV) and falls back to the
-//       global one only when that lands farther than `near` from p: many
-//       times faster on B-spline faces for samples that come in spatial
-//       order and lie close to the surface; with `inside`, whether that
+//       Newton kept within the surface's parameter bounds, settling on the
+//       border where the foot point lies beyond it) and falls back to the
+//       global one only when that does not settle or lands farther than
+//       `near` from p: many times faster on B-spline faces for samples that
+//       come in spatial order and lie close to the surface (OCCT's
+//       NextValueOfUV searched globally whenever a step left the bounds:
+//       every sample by a face border projected onto its neighbour, about
+//       half the refit's sampling time); with `inside`, whether that
 //       point lies within the face's trim (BRepTopAdaptor_FClass2d, cached
 //       per face; on the border counts as inside)
 //   dense_samples(spacing, chord)  the faces as a fine triangle mesh whose

@@ -38,6 +38,7 @@ struct BrepSource::Impl {
   mutable std::vector<std::unique_ptr<BRepTopAdaptor_FClass2d>> classifiers;  // per face, lazily
   mutable std::vector<std::unique_ptr<BRepAdaptor_Surface>> adaptors;  // per face, lazily (foot_on_face)
   mutable std::vector<std::array<double, 4>> uv_box;                   // per face with an adaptor: u0, u1, v0, v1
+  mutable std::vector<double> face_size;  // per face, its box diagonal, lazily (0: not yet; project_to_face)
   std::vector<std::string> warnings;                                   // repairs made on reading (sewing)
 
   explicit Impl(const TopoDS_Shape& s) : shape(s) {
@@ -51,6 +52,7 @@ struct BrepSource::Impl {
     classifiers.resize(faces.Extent());
     adaptors.resize(faces.Extent());
     uv_box.resize(faces.Extent());
+    face_size.assign(faces.Extent(), 0.0);
   }
   const TopoDS_Face& face(Index i) const { return TopoDS::Face(faces(i + 1)); }
   const TopoDS_Edge& edge(Index i) const { return TopoDS::Edge(edges(i + 1)); }

@@ -9,6 +9,7 @@
 #include "stripweave/surfacing/patch_fit.h"
 #include "stripweave/surfacing/patch_parameterization.h"
 #include "stripweave/surfacing/patch_shell.h"
+#include "stripweave/surfacing/sample_memo.h"
 #include "stripweave/surfacing/source_projection.h"
 #include "stripweave/surfacing/split_strip.h"
 
@@ -125,8 +126,10 @@ double angle_deg(const Vec3& a, const Vec3& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / M_PI;
 }
 
-// Steps 1 to 5 (the header) on one network, without the shell.
-FitResult fit_network(const Surface& surface, const PatchNetwork& network, const FitOptions& options) {
+// Steps 1 to 5 (the header) on one network, without the shell. `memo`: the
+// samples of the fits before (sample_memo.h).
+FitResult fit_network(const Surface& surface, const PatchNetwork& network, const FitOptions& options,
+                      SampleMemo& memo) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   FitResult result;
@@ -244,8 +247,18 @@ FitResult fit_network(const Surface& surface, const PatchNetwork& network, const
     polyline.front() = network.vertices[E.v0];
     polyline.back() = network.vertices[E.v1];
     edge_smoothed[e] = !E.sharp && !E.boundary && uses[e].size() == 2 && options.edge_smoothing > 0;
-    edge_samples[e] = sample_edge(polyline, point_faces, E.sharp, projector, density,
-                                  edge_smoothed[e] ? options.edge_smoothing : 0.0);
+    const double smooth = edge_smoothed[e] ? options.edge_smoothing : 0.0;
+    // Each edge from no warm start: its samples depend on it alone (sample_memo.h).
+    MemoKey key;
+    key.add(polyline).add(E.sharp).add(density).add(smooth);
+    for (const auto& f : point_faces) key.add(f);
+    if (const EdgeSamples* known = memo.edges.find(key)) {
+      edge_samples[e] = *known;
+      continue;
+    }
+    projector.forget_warm_starts();
+    edge_samples[e] = sample_edge(polyline, point_faces, E.sharp, projector, density, smooth);
+    memo.edges.store(key, edge_samples[e]);
   }
 
   // Smoothed edges: the patch meshes' boundary vertices move onto their
@@ -264,6 +277,10 @@ FitResult fit_network(const Surface& surface, const PatchNetwork& network, const
     if (!any) continue;
     TriangleMesh m = P.mesh;
     const Index nv = m.num_vertices();
+    MemoKey key;
+    key.add(m.positions).add(m.triangles).add(P.source_face).add(P.corners).add(P.reversed);
+    for (int s = 0; s < 4; ++s) key.add(edge_smoothed[P.edges[s]] ? edge_samples[P.edges[s]].points : std::vector<Vec3>{});
+    const std::vector<Vec3>* known = memo.moved.find(key);
     std::vector<int> ring(nv, -1);  // 0: boundary, 1, 2: rings inside
     for (int s = 0; s < 4; ++s) {
       const Index e = P.edges[s];
@@ -280,7 +297,8 @@ FitResult fit_network(const Surface& surface, const PatchNetwork& network, const
     for (const Tri& f : m.triangles)
       for (int k = 0; k < 3; ++k) nbr[f[k]].push_back(f[(k + 1) % 3]), nbr[f[k]].push_back(f[(k + 2) % 3]);
     for (auto& l : nbr) sort_unique(l);
-    for (int r = 1; r <= 2; ++r)
+    projector.forget_warm_starts();  // each patch from no warm start (sample_memo.h)
+    for (int r = 1; r <= 2 && !known; ++r)
       for (Index v = 0; v < nv; ++v)
         if (ring[v] < 0)
           for (Index w : nbr[v])
@@ -288,7 +306,7 @@ FitResult fit_network(const Surface& surface, const PatchNetwork& network, const
               ring[v] = r;
               break;
             }
-    for (int it = 0; it < 4; ++it) {
+    for (int it = 0; it < 4 && !known; ++it) {
       std::vector<Vec3> next = m.positions;
       for (Index v = 0; v < nv; ++v) {
         if (ring[v] != 1 && ring[v] != 2) continue;
@@ -298,6 +316,8 @@ FitResult fit_network(const Surface& surface, const PatchNetwork& network, const
       }
       m.positions = std::move(next);
     }
+    if (known) m.positions = *known;
+    else memo.moved.store(key, m.positions);
     NetworkPatch copy;
     copy.edges = P.edges, copy.reversed = P.reversed, copy.corners = P.corners;
     copy.mesh = m;
@@ -323,13 +343,26 @@ FitResult fit_network(const Surface& surface, const PatchNetwork& network, const
   // thread), and each patch from no warm start, so that the samples do not
   // depend on which thread sampled which patch before. A mesh source (no
   // B-rep) is sampled on one thread: its locator is shared.
+  // A patch sampled by an earlier fit of this call (a patch no split
+  // touched) takes those samples (sample_memo.h).
   std::vector<PatchSamples> samples(nP);
-  const unsigned sample_workers = projector.exact() ? parallel_workers(nP) : 1;
+  std::vector<MemoKey> sample_keys(nP);
+  std::vector<Index> todo;
+  for (Index p = 0; p < nP; ++p) {
+    const TriangleMesh& m = moved[p].num_vertices() ? moved[p] : network.patches[p].mesh;
+    sample_keys[p].add(m.positions).add(m.triangles).add(param[p].uv).add(bool(has_faces[p]));
+    if (has_faces[p]) sample_keys[p].add(network.patches[p].source_face);
+    if (const PatchSamples* known = memo.patches.find(sample_keys[p])) samples[p] = *known;
+    else todo.push_back(p);
+  }
+  const Index nTodo = static_cast<Index>(todo.size());
+  const unsigned sample_workers = projector.exact() ? parallel_workers(nTodo) : 1;
   std::vector<std::unique_ptr<SourceProjector>> worker_projectors(sample_workers);
   if (projector.exact())
     for (auto& w : worker_projectors) w = projector.thread_copy();
-  parallel_for_workers(nP, [&](Index p, unsigned worker) {
+  parallel_for_workers(nTodo, [&](Index k, unsigned worker) {
     check();
+    const Index p = todo[k];
     const SourceProjector& own = worker_projectors[worker] ? *worker_projectors[worker] : projector;
     own.forget_warm_starts();
     const NetworkPatch& P = network.patches[p];
@@ -389,6 +422,7 @@ FitResult fit_network(const Surface& surface, const PatchNetwork& network, const
       }
     }
   }, sample_workers);
+  for (Index p : todo) memo.patches.store(sample_keys[p], samples[p]);
   watch.lap("sample");
   checkpoint("fitting B-spline patches", 0.3, 0.6);
 
@@ -888,7 +922,7 @@ bool round_helped(const FitReport& before, const FitReport& after, const SplitRo
 // stops: a miss no split mends costs a refit or two, never a worse fit.
 // `layout`: per patch of the fitted network, the input network's patch.
 void split_and_refit(const Surface& surface, const PatchNetwork& network, const FitOptions& options,
-                     FitResult& result, std::vector<Index>& layout) {
+                     FitResult& result, std::vector<Index>& layout, SampleMemo& memo) {
   std::shared_ptr<PatchNetwork> net;  // the split network, null until a round is kept
   std::vector<PatchSplit> kept, rejected;
   double other_fits_ms = 0;
@@ -897,7 +931,7 @@ void split_and_refit(const Surface& surface, const PatchNetwork& network, const 
     const Index budget = options.max_splits - Index(kept.size());
     SplitRound trial = apply_splits(base, layout, split_choices(base, result.report, options), round, budget);
     if (trial.splits.empty()) break;
-    FitResult refit = fit_network(surface, *trial.net, options);
+    FitResult refit = fit_network(surface, *trial.net, options, memo);
     std::vector<SplitChoice> good;
     for (size_t k = 0; k < trial.splits.size(); ++k) {
       if (strip_helped(result.report, refit.report, trial.base, trial.splits[k])) good.push_back(trial.choices[k]);
@@ -906,7 +940,7 @@ void split_and_refit(const Surface& surface, const PatchNetwork& network, const 
     if (!good.empty() && good.size() < trial.splits.size()) {
       other_fits_ms += 1e3 * refit.report.time_s;
       trial = apply_splits(base, layout, good, round, budget);
-      refit = fit_network(surface, *trial.net, options);
+      refit = fit_network(surface, *trial.net, options, memo);
     }
     if (good.empty() || !round_helped(result.report, refit.report, trial)) {
       other_fits_ms += 1e3 * refit.report.time_s;
@@ -931,10 +965,12 @@ void split_and_refit(const Surface& surface, const PatchNetwork& network, const 
 FitResult fit_patch_network(const Surface& surface, const PatchNetwork& network, const FitOptions& options) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
-  FitResult result = fit_network(surface, network, options);
+  SampleMemo memo;
+  FitResult result = fit_network(surface, network, options, memo);
   std::vector<Index> layout(network.patches.size());
   std::iota(layout.begin(), layout.end(), 0);
-  if (options.split_patches && !result.report.tolerance_met) split_and_refit(surface, network, options, result, layout);
+  if (options.split_patches && !result.report.tolerance_met)
+    split_and_refit(surface, network, options, result, layout, memo);
   FitReport& report = result.report;
   for (size_t p = 0; p < report.per_patch.size(); ++p) report.per_patch[p].layout_patch = layout[p];
 

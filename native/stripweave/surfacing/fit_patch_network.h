@@ -79,7 +79,9 @@
 //      it; a round is kept when the refit meets the tolerance, or every
 //      split helped without raising the network's largest such distance or
 //      folding more patches; otherwise it is undone and the splitting stops. Every split is reported (FitReport::splits, and the undone
-//      ones FitReport::rejected_splits).
+//      ones FitReport::rejected_splits). The refits of one call share their samples:
+//      a patch or edge a split did not touch is not projected again
+//      (sample_memo.h).
 // Errors  InputError for an inconsistent network (a side whose mesh
 //         boundary does not carry its edge's polyline, an edge used by more
 //         than two patch sides, ...).
