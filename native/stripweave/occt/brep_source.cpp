@@ -432,8 +432,18 @@ bool local_foot(ShapeAnalysis_Surface& analyser, const gp_Pnt& p, const gp_Pnt2d
   double u0, u1, v0, v1;
   analyser.Bounds(u0, u1, v0, v1);
   const bool periodic_u = surface->IsUPeriodic(), periodic_v = surface->IsVPeriodic();
+  // Along a periodic direction the parameter is wrapped into its first
+  // period, not clamped: a free one drifts by whole periods over the samples
+  // of a closed face (a fillet's torus), and the trim classifier
+  // (BRepTopAdaptor_FClass2d) took minutes per point far outside the face's
+  // parameter range (a rounded box's refit never ended).
+  auto wrap = [](double x, double lo, double period) {
+    return period > 0 ? lo + std::fmod(std::fmod(x - lo, period) + period, period) : x;
+  };
+  const double period_u = periodic_u ? surface->UPeriod() : 0, period_v = periodic_v ? surface->VPeriod() : 0;
   auto clamp = [&](double u, double v) {
-    return gp_Pnt2d(periodic_u ? u : std::clamp(u, u0, u1), periodic_v ? v : std::clamp(v, v0, v1));
+    return gp_Pnt2d(periodic_u ? wrap(u, u0, period_u) : std::clamp(u, u0, u1),
+                    periodic_v ? wrap(v, v0, period_v) : std::clamp(v, v0, v1));
   };
   gp_Pnt2d uv = clamp(start.X(), start.Y());
   gp_Pnt S;

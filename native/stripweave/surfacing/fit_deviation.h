@@ -26,16 +26,16 @@
 //         eps is the largest chordal error of their triangles (measured at
 //         every triangle's centroid: to second order the largest error over
 //         a triangle is at most 1.5 times its centroid's; BRepMesh's
-//         boundary polygons lie within its edge deflection, 2 * chord). The
-//         distance d_mesh to a tessellation then brackets the true one,
-//         d_mesh - eps <= d <= d_mesh + eps, and the Newton answer is the
-//         distance to a point of the geometry no farther than its start,
-//         d_mesh + eps away. So a reported distance is never below the true
-//         one on a patch (the foot lies on the patch's square), nor on the
-//         B-rep but where the local Newton slips past a face's trim, and
-//         there it is taken at least d_mesh - eps; it is above the true one
-//         by at most 2 eps, and only where the tessellation's nearest point
-//         lies on another face or patch than the true foot point.
+//         boundary polygons lie within its edge deflection, 2 * chord).
+//         Every reported distance is the distance to a point of the other
+//         side (the foot lies on the patch's square; on the B-rep, within
+//         the face's trim), so it is never below the true one. It is above
+//         it only where the tessellation's nearest point lies on another
+//         face or patch than the true foot point, by at most 2 eps where the
+//         tessellation covers the geometry; a patch sample whose B-rep foot
+//         lies farther than half the tolerance gets a second look at every
+//         face whose box is nearer (the source tessellation can leave a
+//         sliver of a face uncovered), so no such gap makes a fit miss.
 //         `measurement_error` is that 2 eps; with the default chord
 //         (tolerance / 10) it is at most 0.4 of the tolerance (0.3 away
 //         from B-rep face borders), and far less in practice (Newton
