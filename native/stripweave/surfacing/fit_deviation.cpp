@@ -5,11 +5,11 @@
 #include "stripweave/occt/brep_source.h"
 #include "stripweave/surfacing/patch_fit.h"
 #include "stripweave/surfacing/patch_grid.h"
+#include "stripweave/surfacing/source_projection.h"
 #include "stripweave/surfacing/source_samples.h"
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <memory>
 
 namespace stripweave {
@@ -118,43 +118,6 @@ std::vector<double> triangle_uncovered(const Surface& surface, const SourceSampl
   return result;
 }
 
-// The distance from x to the nearest point of a face within its trim: the
-// untrimmed surface's foot where it lies inside, else the nearest point of
-// the face's border edges (where the nearest point of a trimmed face is).
-double distance_to_face(const BrepSource& brep, Index face, const Vec3& x) {
-  double d = 0;
-  bool inside = true;
-  brep.project_to_face(face, x, &d, 0, &inside);
-  if (inside) return d;
-  double best = std::numeric_limits<double>::infinity();
-  for (Index e : brep.face_edges(face)) {
-    double de;
-    brep.project_to_edge(e, x, &de);
-    best = std::min(best, de);
-  }
-  return best;
-}
-
-// A second look for a patch sample whose foot on the face of its nearest
-// source triangle lies farther than `far`: the distance to every other face
-// whose box lies nearer than that foot. The source tessellation can leave a
-// sliver of a face uncovered (seen on the shipped handle: a sample 0.008 from
-// one face, whose tessellation there was 0.14 away, was reported at 0.133
-// from the neighbour face, 1.4 times the tolerance, and the fit "missed").
-// Every answer is the distance to a point of the part, so the figure is
-// never below the true one, and now not above it where the tessellation
-// has a gap.
-double second_look(const BrepSource& brep, Index face, const Vec3& x, double foot) {
-  for (Index f = 0; f < brep.num_faces(); ++f) {
-    if (f == face) continue;
-    const BoundingBox box = brep.face_bounding_box(f);
-    const double outside = (box.min - x).cwiseMax(x - box.max).cwiseMax(0.0).norm();
-    if (outside >= foot) continue;
-    foot = std::min(foot, distance_to_face(brep, f, x));
-  }
-  return foot;
-}
-
 }  // namespace
 
 FitDeviation fit_deviation(const Surface& surface, const std::vector<BSplinePatch>& patches, double tolerance,
@@ -211,6 +174,21 @@ FitDeviation fit_deviation(const Surface& surface, const std::vector<BSplinePatc
   std::vector<std::shared_ptr<BrepSource>> copies(parallel_workers(Index(1) << 20));
   if (brep)
     for (auto& c : copies) c = brep->thread_copy();
+  // A second look, for a patch sample whose foot on the face of its nearest
+  // source triangle lies past half the tolerance: the nearest point of the
+  // whole part within its faces' trims (SourceProjector::on_faces over every
+  // face, nearest boxes first; no warm start, so the answer does not depend
+  // on the thread). The source tessellation can leave a sliver of a face
+  // uncovered (the shipped handle: a sample 0.008 from one face, whose
+  // tessellation there lay 0.14 away, was reported at 0.133 from the
+  // neighbour face, 1.4 tolerances, and the fit "missed"). Every answer is
+  // a point of the part, so the figure is never below the true distance.
+  std::vector<Index> every_face;
+  if (brep)
+    for (Index f = 0; f < brep->num_faces(); ++f) every_face.push_back(f);
+  // Only with a B-rep (a mesh source's projector would build its own tree).
+  const auto whole_part = brep ? std::make_unique<SourceProjector>(surface, 0.0) : nullptr;
+  std::vector<std::unique_ptr<SourceProjector>> second_looks(copies.size());
   auto to_source = [&](const std::vector<Vec3>& points) {
     std::vector<double> d(points.size(), 0.0);
     const Index nb = blocks_of(points.size());
@@ -227,7 +205,10 @@ FitDeviation fit_deviation(const Surface& surface, const std::vector<BSplinePatc
         Vec2 uv = interpolate(S.uv, S.mesh.triangles[c.triangle], c.barycentric);
         double foot;
         copies[worker]->foot_on_face(S.face[c.triangle], x, uv, &foot);
-        if (foot > 0.5 * tolerance) foot = second_look(*copies[worker], S.face[c.triangle], x, foot);
+        if (foot > 0.5 * tolerance) {
+          if (!second_looks[worker]) second_looks[worker] = whole_part->thread_copy();
+          foot = std::min(foot, (second_looks[worker]->on_faces(every_face, x) - x).norm());
+        }
         d[k] = foot;
       }
     }, static_cast<unsigned>(copies.size()));
