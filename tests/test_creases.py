@@ -20,6 +20,7 @@ from stripweave.design import Design
 from stripweave.layout import compute_layout
 from stripweave.loops import LoopSession
 from stripweave.strips import DesignSession
+from stripweave.weave import WeaveOptions, auto_weave
 
 native = sw._native
 
@@ -157,6 +158,51 @@ def test_chamfer_creases_on_primal_edges_and_fillet_tangents_are_no_creases():
         for t in np.linspace(0, 1, 21):
             p = np.asarray(a, float) + t * (np.asarray(b, float) - np.asarray(a, float))
             assert distance_to_polylines(p, polylines) <= 1e-3 * 20
+
+
+def five_square_saddle(edge=10.0):
+    """Five planar squares of the given edge around one vertex P (the origin), the open disc they
+    form: a saddle of 450 degrees whose five edges at P are all creases, a crease junction of
+    valence 5. Consecutive directions r_k, r_k+1 are orthogonal (each square's corner at P is
+    90 degrees); r_0 = x, r_1 = y, r_2 and r_4 leave the xz and yz planes at 120 degrees, and r_3
+    is orthogonal to both. The folds at the five edges are 60, 60, 131, 139 and 131 degrees, and
+    the squares meet only along their shared edges. Each crease ends on the open boundary."""
+    c, s = math.cos(math.radians(120)), math.sin(math.radians(120))
+    r = [np.array(v, float) for v in ((1, 0, 0), (0, 1, 0), (c, 0, s), (0, 0, 0), (0, c, s))]
+    r[3] = np.cross(r[2], r[4]) / np.linalg.norm(np.cross(r[2], r[4]))
+    corners = [[Vector(*map(float, p)) for p in (0 * r[0], edge * a, edge * (a + b), edge * b, 0 * r[0])]
+               for a, b in zip(r, r[1:] + r[:1])]
+    return Part.Shell([Part.Face(Part.makePolygon(q)) for q in corners]), [edge * v for v in r]
+
+
+def test_a_crease_junction_of_valence_five_is_a_primal_vertex_of_valence_five():
+    """The issue's corner where five faces meet, woven automatically: every crease (the five
+    edges at P) lies on primal edges, P is a primal vertex, and five primal edges meet there,
+    one along each crease; each crease's end on the open boundary is a primal vertex too."""
+    shell, ends = five_square_saddle(10.0)
+    surface = sw.from_shape(shell, target_triangles=8000)
+    assert len(surface.feature_curve_points()) >= 5
+    ds = DesignSession(surface)
+    auto_weave(ds, WeaveOptions())
+    L = compute_layout(ds)
+    assert L["valid"] and L["clean"]
+    assert_conforming(L)
+    assert_creases_on_edges(surface, L)
+    at_p = [v for v in L["vertices"] if np.linalg.norm(v["position"]) <= 1e-6 * 10]
+    assert len(at_p) == 1 and at_p[0]["valence"] == 5
+    for end in ends:
+        assert any(np.linalg.norm(np.asarray(v["position"]) - end) <= 1e-6 * 10 for v in L["vertices"])
+    # The five primal edges at P leave it along the five creases (within 1 degree).
+    leaving = []
+    for e in L["edges"]:
+        pts = np.asarray(e["points"])
+        for a, b in ((pts[0], pts[1:]), (pts[-1], pts[-2::-1])):
+            if np.linalg.norm(a) <= 1e-6 * 10:
+                far = b[np.argmax(np.linalg.norm(b - a, axis=1) > 0.5)]
+                leaving.append(far / np.linalg.norm(far))
+    assert len(leaving) == 5
+    for end in ends:
+        assert max(float(np.dot(u, end / 10)) for u in leaving) >= math.cos(math.radians(1))
 
 
 def spiked(vertices, triangles, count=12, height=1.0, seed=1):
