@@ -98,6 +98,26 @@ def test_two_belts_leave_crease_regions_and_no_clean_layout(cube_surface):
     assert L["crease_conformity"] < 1 - 1e-3
 
 
+def test_a_layout_off_its_creases_says_where_and_what_to_try(cube_surface):
+    """Issue 18, failures: a valid layout that does not follow the creases names its crease
+    regions in report.json ("crease_regions": where a strip by hand would go, what is wrong)
+    and in one line with what to try. The two belts leave four lenses of two corners each;
+    each region's point lies on the cube (on one of its faces)."""
+    report = sw.weave(cube_surface, design=Design(OFF_CENTRE_BELTS[:2]), auto=False, preview=False)
+    assert report["valid"] and not report["crease_conforming"]
+    regions = report["crease_regions"]
+    assert len(regions) == 4 and all(r["problem"] == "two crease nodes" for r in regions)
+    assert [r["area"] for r in regions] == sorted((r["area"] for r in regions), reverse=True)
+    for r in regions:
+        p = np.asarray(r["position"])
+        assert np.all(p > -1e-6) and np.all(p < 10 + 1e-6) and np.min(np.minimum(p, 10 - p)) < 1e-6
+    line = report["why_crease"]
+    assert line.startswith("4 crease regions remain: a region at (") and "(two crease nodes)" in line
+    assert "--budget" in line and "adding a strip by hand through (" in line
+    clean = sw.weave(cube_surface, design=Design(OFF_CENTRE_BELTS), auto=False, preview=False)
+    assert clean["crease_conforming"] and "crease_regions" not in clean and clean["why_crease"] is None
+
+
 def test_crease_circle_without_junction_lies_on_primal_edges():
     """A capped cylinder's rims are crease circles with no junction: two meridian planes and
     a belt give regions each crossed by an arc of a rim, whose vertex goes on the rim and

@@ -200,7 +200,7 @@ def cmd_weave(args):
                    feature_angle_deg=args.feature_angle,
                    budget=args.budget, time_limit_s=args.time_limit if args.time_limit > 0 else float("inf"),
                    symmetry=args.symmetry, symmetry_tolerance=args.symmetry_tolerance)
-    report = {k: v for k, v in result.items() if k not in ("surface", "design", "log", "why_red")}
+    report = {k: v for k, v in result.items() if k not in ("surface", "design", "log", "why_red", "why_crease")}
     if args.json:
         print(json.dumps(report))
         return 0
@@ -224,6 +224,8 @@ def cmd_weave(args):
           + f"; took {result['timings_ms']['total'] / 1000:.1f} s")
     if result.get("why_red"):
         print(f"NOT valid: {result['why_red']}")
+    if result.get("why_crease"):
+        print(f"NOT crease-conforming: {result['why_crease']}")
     if "fit" in result:
         from .surfacing import format_fit
         print(format_fit(result["fit"]))

@@ -20,7 +20,8 @@ quad layout, layout.compute_layout) -> files. With `out`, writes
 The returned dict is report.json's content plus "paths", "log" (one entry per added
 strip), "stopped" (why weaving ended), "work" (units spent, weave.py),
 "defect_locations" (layout.json's, for the CLI to say where), "why_red" (an invalid
-layout: which red regions remain, where, and what to try; else None) and
+layout: which red regions remain, where, and what to try; else None), "why_crease" (the
+same for the crease regions of a valid layout that is not crease-conforming) and
 "cancelled_queries" (loop queries cut by the timeout: the only machine-dependent step
 besides the wall-clock safety net).
 """
@@ -37,7 +38,7 @@ from .files import atomic_path, check_out_dir, out_lock, write_atomic
 from .layout import write_layout
 from .memory import StageMemory
 from .strips import DesignSession
-from .weave import WeaveOptions, auto_weave, red_regions, why_red
+from .weave import WeaveOptions, auto_weave, crease_regions, red_regions, why_crease, why_red
 
 REPORT_KEYS = ("valid", "strips", "patches", "regions", "irregular_vertices", "corner_deviation_deg",
                "bbox_diagonal", "timings_ms")
@@ -266,6 +267,12 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
         report["red_regions"] = every_red[:5]
         red_text = why_red(report["red_regions"], report["regions"]["red"], stopped, max_strips,
                            weave_options.get("budget", WeaveOptions.budget))
+    crease_text = None
+    if report["valid"] and not report.get("crease_conforming", True):
+        # A valid layout that does not follow the creases: where and what to try, as for red.
+        report["crease_regions"] = crease_regions(ds)
+        crease_text = why_crease(report["crease_regions"], report["regions"].get("crease", 0), stopped,
+                                 weave_options.get("budget", WeaveOptions.budget))
     from .components import component_report
     components = component_report(ds.surface, layout, every_red if not report["valid"] else ())
     if components:      # an assembly or a multi-component file: each part's own figures
@@ -327,5 +334,5 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
     say(f"{report['strips']} strips ({given} given), {report['patches']} patches, "
         f"{'valid' if report['valid'] else 'INVALID'}, {timings['total'] / 1000:.1f} s")
     return {**report, "paths": paths, "log": log, "stopped": stopped, "work": work, "cancelled_queries": cancelled,
-            "defect_locations": layout.get("defect_locations", []), "why_red": red_text,
+            "defect_locations": layout.get("defect_locations", []), "why_red": red_text, "why_crease": crease_text,
             "surface": surface, "design": ds.design}

@@ -915,6 +915,38 @@ def red_regions(ds, limit=5):
             for r in (red if limit is None else red[:limit])]
 
 
+def crease_regions(ds, limit=5):
+    """The crease regions of the design (they keep a valid layout from following the part's
+    creases, issue 17), largest first (at most `limit`): where a strip by hand would go (the
+    region's crease seed: on the crease between its two nodes, else a point inside), its area
+    and what is wrong (crease_structure.h's problem, e.g. "two crease junctions"), for
+    report.json's "crease_regions"."""
+    a = native.weave_assessment(ds.native, [], 1)
+    crease = sorted((r for r in a["regions"] if r["colour"] == "crease"), key=lambda r: -r["area"])
+    def position(r):
+        p = r.get("crease_seed") or (r["seeds"][0] if r["seeds"] else None)
+        return None if p is None else [float(x) for x in list(p)[:3]]
+    return [{"position": position(r), "area": float(r["area"]), "problem": str(r.get("crease_problem", ""))}
+            for r in crease[:limit]]
+
+
+def _at(position):
+    return "" if position is None else " at (" + ", ".join(f"{x:.4g}" for x in position) + ")"
+
+
+def why_crease(regions, total, stopped, budget):
+    """One line for people, for a valid layout that is not crease-conforming: which crease
+    regions remain, where, what keeps each from carrying its creases, why weaving stopped, and
+    what to try (a strip by hand across the crease there separates what the region holds)."""
+    shown = "; ".join(f"a region{_at(r['position'])} ({r['problem'] or 'crease'})" for r in regions[:3])
+    first = next((r["position"] for r in regions if r["position"] is not None), None)
+    by_hand = ("adding a strip by hand through" + _at(first).replace(" at", "", 1) if first else
+               "adding a strip by hand through the crease region") + ", across the crease"
+    return (f"{total} crease region{'' if total == 1 else 's'} remain{'s' if total == 1 else ''}: "
+            f"{shown}{'; ...' if total > 3 else ''}; weaving stopped: {stopped}; "
+            f"try --budget {2 * budget:g}, or {by_hand}")
+
+
 def why_red(red, total, stopped, max_strips, budget):
     """One line for people: which red regions remain, where, why each is no disc, why weaving
     stopped, and what to try."""
