@@ -124,6 +124,35 @@ def bumpy_sphere_mesh(R=5.0, subdivisions=4):
     return R * u * bumps[:, None], np.array(f, dtype=np.int64)
 
 
+def torus_knot_tube(radius=1.2, samples=360, around=24):
+    """A closed tube (vertices, triangles) of the given radius around the (2, 3) torus knot
+    r = 10 + 4 cos 3t, (r cos 2t, r sin 2t, 4 sin 3t): genus 1, knotted, no crease. Its
+    circles follow a parallel-transport frame, the frame's holonomy spread evenly along the
+    knot so that the tube closes without a seam twist."""
+    t = np.linspace(0, 2 * np.pi, samples, endpoint=False)
+    r = 10 + 4 * np.cos(3 * t)
+    centre = np.stack([r * np.cos(2 * t), r * np.sin(2 * t), 4 * np.sin(3 * t)], 1)
+    tangent = np.gradient(centre, axis=0)
+    tangent /= np.linalg.norm(tangent, axis=1)[:, None]
+    normal = np.zeros_like(tangent)
+    n = np.cross(tangent[0], [0.0, 0.0, 1.0])
+    for i in range(samples):
+        n = n - tangent[i] * np.dot(n, tangent[i])
+        n /= np.linalg.norm(n)
+        normal[i] = n
+    binormal = np.cross(tangent, normal)
+    back = normal[-1] - tangent[0] * np.dot(normal[-1], tangent[0])
+    twist = np.arctan2(np.dot(np.cross(normal[0], back), tangent[0]), np.dot(normal[0], back))
+    phi = -twist * np.arange(samples)[:, None] / samples + 2 * np.pi * np.arange(around)[None, :] / around
+    vertices = (centre[:, None, :] + radius * (np.cos(phi)[..., None] * normal[:, None, :]
+                                               + np.sin(phi)[..., None] * binormal[:, None, :])).reshape(-1, 3)
+    i, j = np.meshgrid(np.arange(samples), np.arange(around), indexing="ij")
+    a0, a1 = i * around + j, i * around + (j + 1) % around
+    b0, b1 = ((i + 1) % samples) * around + j, ((i + 1) % samples) * around + (j + 1) % around
+    triangles = np.concatenate([np.stack([a0, b0, b1], -1).reshape(-1, 3), np.stack([a0, b1, a1], -1).reshape(-1, 3)])
+    return vertices, triangles.astype(np.int64)
+
+
 def winding_numbers(points, R=10.0):
     """(around the torus axis, around the tube) of a closed polyline on a torus centred at the origin."""
     p = np.asarray(points)

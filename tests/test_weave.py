@@ -18,9 +18,10 @@ import FreeCAD  # noqa: F401  (before Part)
 import Part
 
 import stripweave as sw
-from models import box, bumpy_sphere_mesh, filleted_box, key, torus
+from models import box, bumpy_sphere_mesh, filleted_box, key, torus, torus_knot_tube
 from stripweave._native import native
 from stripweave.design import Design
+from stripweave.layout import compute_layout
 from stripweave.strips import DesignSession
 from stripweave.weave import WeaveOptions, _assessment_of, _deviation, _oversized, auto_weave, flaws, score
 
@@ -219,6 +220,21 @@ def test_torus_gives_a_valid_layout():
     # (sum of 4 - valence = 4 chi = 0).
     assert report["patches"] == sum(report["regions"].values()) >= 1
     assert sum((4 - int(v)) * n for v, n in report["irregular_vertices"].items()) == 0
+
+
+def test_a_torus_knot_tube_weaves_clean():
+    """Issue 18: a knotted tube (genus 1, the (2, 3) torus knot) weaves clean. Its red region
+    is the whole tube; the loops that cut it must follow the knot and go round the tube,
+    wherever the knot turns."""
+    v, t = torus_knot_tube()
+    surface = sw.from_mesh(v, t, target_triangles=12000)
+    ds = DesignSession(surface)
+    result = auto_weave(ds, WeaveOptions())
+    L = compute_layout(ds)
+    assert L["valid"] and L["clean"] and len(L["patches"]) >= 1
+    assert result.assessment["colours"]["red"] == 0
+    # Every patch corner lies on the tube: within a solver edge of a tube vertex.
+    assert all(np.min(np.linalg.norm(v - np.asarray(x["position"]), axis=1)) < 0.5 for x in L["vertices"])
 
 
 def test_partial_design_is_kept_and_completed(cube):
