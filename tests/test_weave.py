@@ -518,6 +518,19 @@ def test_patches_past_twenty_median_areas_are_split_first():
     assert WeaveOptions().max_area_ratio == 20.0
 
 
+def test_a_plate_with_one_small_hole_gets_even_patches():
+    """Issue 18: a 40 x 40 x 4 plate with one hole of radius 1.5 off its centre, where the
+    loops the hole asks for would bunch: the woven layout's largest patch is at most
+    max_area_ratio (20) times its median patch."""
+    plate = Part.makeBox(40, 40, 4).cut(Part.makeCylinder(1.5, 4, FreeCAD.Vector(14, 22, 0)))
+    ds = DesignSession(sw.from_shape(plate, target_triangles=15000))
+    auto_weave(ds, WeaveOptions())
+    L = compute_layout(ds)
+    assert L["valid"] and len(L["patches"]) >= 10
+    areas = np.array([p["area"] for p in L["patches"]])
+    assert areas.max() <= 20.0 * np.median(areas)
+
+
 def test_refinement_refused_by_the_band_refines_under_the_papers_mask():
     """A plate with three through holes: refinement's wider compatibility (a band, and here an
     85-degree angle) refuses a strip the colour phase added (the direction of its anchor is
