@@ -315,3 +315,84 @@ def test_patches_over_creases_are_marked():
     assert len(L["patches"]) == 2 and all(p["creased"] for p in L["patches"])
     inside = sum(p["crease_length"] for p in L["patches"])
     assert 2 * math.pi * 5 < inside < 4 * math.pi * 5
+
+
+# --- Pinned primal vertices (paper §7: a vertex dragged within its region) ---------------
+
+def _octant_vertex(L, signs):
+    return next(i for i, v in enumerate(L["vertices"]) if all(np.sign(v["position"]) == np.sign(signs)))
+
+
+def test_a_pinned_vertex_moves_to_the_pin_and_the_others_stay():
+    """Three great circles on a sphere of radius 5: a pin in the (+,+,+) octant, off its
+    singularity, moves that region's vertex to the surface point nearest the pin (within one
+    solver edge); the seven other vertices keep their places, and the layout keeps its six
+    quad patches, now with the corners the moved vertex gives them."""
+    surface = sw.from_shape(sphere(5), target_triangles=12000)
+    ds = DesignSession(surface, Design(GREAT_CIRCLES))
+    before = compute_layout(ds)
+    k = _octant_vertex(before, (1, 1, 1))
+    assert before["vertices"][k]["placement"] == "singularity"
+    pin = 5 * np.array([0.8, 0.3, 0.52]) / np.linalg.norm([0.8, 0.3, 0.52])
+    ds.design.pins = [list(pin)]
+    ds.update()
+    after = compute_layout(ds)
+    check_layout(after)
+    assert len(after["patches"]) == 6 and after["clean"]
+    moved = after["vertices"][_octant_vertex(after, (1, 1, 1))]
+    assert moved["placement"] == "pinned"
+    edge = math.sqrt(4 * math.pi * 25 / 12000 * 4 / math.sqrt(3))   # a solver edge, about
+    assert np.linalg.norm(np.asarray(moved["position"]) - pin) <= edge
+    others = lambda L: sorted(tuple(np.round(v["position"], 9)) for v in L["vertices"]
+                              if not all(np.sign(v["position"]) == 1))
+    assert others(after) == others(before)
+    # The patches at the moved vertex changed shape: its three corners turned.
+    def corners_at(L, k):
+        return sorted(p["corner_angles_deg"][i] for p in L["patches"] for i, c in enumerate(p["corners"]) if c == k)
+    turned = np.abs(np.subtract(corners_at(before, k), corners_at(after, _octant_vertex(after, (1, 1, 1)))))
+    assert len(turned) == 3 and turned.max() > 5
+    # No pin, the layout of before.
+    ds.design.pins = []
+    ds.update()
+    assert compute_layout(ds)["vertices"] == before["vertices"]
+
+
+def test_a_pin_keeps_a_corner_of_the_part_and_a_crease_vertex_on_its_crease(cube_layout):
+    """Pins move vertices only where the rules let them: a cube corner (a crease junction)
+    stays where it is, and a vertex on a crease slides along the crease to the crease point
+    nearest the pin, so the layout stays crease-conforming."""
+    ds, before = cube_layout
+    pinned = DesignSession(ds.surface, Design(CUBE_BELTS, pins=[[8.0, 9.0, 9.5]]))
+    L = compute_layout(pinned)
+    assert [v["position"] for v in L["vertices"]] == [v["position"] for v in before["vertices"]]
+    assert all(v["placement"] == "corner" for v in L["vertices"])
+    # A capped cylinder cut by two loops along its axis and a belt: the vertices on the rims
+    # are crease vertices. A pin beside the top rim, off it, moves one along the rim.
+    surface = sw.from_shape(capped_cylinder(5, 20), target_triangles=12000)
+    design = Design([[(0, -5, 10, 0, 0, 1)], [(-5, 0, 10, 0, 0, 1)], [(5, 0, 10, 0, 1, 0)]])
+    L0 = compute_layout(DesignSession(surface, design))
+    rim = [v for v in L0["vertices"] if v["placement"] == "feature" and v["position"][2] > 19.99]
+    if not (L0["valid"] and rim):
+        pytest.fail(f"the capped cylinder's design gives no rim vertex to pin: {L0['problems']}")
+    target = np.asarray(rim[0]["position"]) + np.array([0.0, 0.0, -0.5])
+    angle = math.atan2(target[1], target[0]) + 0.2
+    target = np.array([4.5 * math.cos(angle), 4.5 * math.sin(angle), 19.5])   # inside, below the rim
+    design.pins = [list(target)]
+    L1 = compute_layout(DesignSession(surface, design))
+    moved = [v for v in L1["vertices"] if v["placement"] == "pinned"]
+    assert len(moved) == 1
+    p = np.asarray(moved[0]["position"])
+    assert p[2] == pytest.approx(20, abs=1e-6) and math.hypot(p[0], p[1]) == pytest.approx(5, abs=1e-3)
+    assert L1["crease_conforming"] == L0["crease_conforming"]
+
+
+def test_pins_round_trip_through_design_json_and_bad_ones_are_named(tmp_path):
+    d = Design(GREAT_CIRCLES, pins=[[1.0, 2.0, 3.0]])
+    path = tmp_path / "d.json"
+    d.save(str(path))
+    assert Design.load(str(path)).pins == [[1.0, 2.0, 3.0]]
+    assert "pins" not in Design(GREAT_CIRCLES).to_dict()
+    data = d.to_dict()
+    data["pins"] = [[1, 2]]
+    with pytest.raises(sw._native.InputError, match="pin 1"):
+        Design.from_dict(data)

@@ -159,6 +159,22 @@ void bind_design(py::module_& m) {
                                                     : band.cast<double>());
           },
           "How far from its loop (model units) a strip refuses parallel loops; None: the whole strip (paper)")
+      .def_property(
+          "vertex_pins",
+          [](const DesignState& d) {
+            std::vector<std::array<double, 3>> out;
+            for (const Vec3& p : d.vertex_pins()) {
+              const Vec3 x = d.surface().similarity.to_model(p);
+              out.push_back({x.x(), x.y(), x.z()});
+            }
+            return out;
+          },
+          [](DesignState& d, const std::vector<std::array<double, 3>>& pins) {
+            std::vector<Vec3> normalized;
+            for (const auto& p : pins) normalized.push_back(d.surface().similarity.to_normalized(Vec3(p[0], p[1], p[2])));
+            d.set_vertex_pins(std::move(normalized));
+          },
+          "Points (model units) where the user put primal vertices (paper §7): each moves its region's vertex there")
       .def_property("compatibility_angle", &DesignState::compatibility_angle, &DesignState::set_compatibility_angle,
                     "Degrees from a strip's direction within which it refuses loops (45: the paper's)")
       .def("disabled_nodes", &DesignState::disabled_nodes)

@@ -7,7 +7,8 @@
 //   Everything regions() gives, and the primal quad layout
 //   (layout/quad_layout.h) in model units:
 //     vertices   [{"position", "valence", "boundary", "region",
-//                  "placement" (corner|boundary|feature|singularity|centre),
+//                  "placement" (corner|boundary|feature|singularity|centre|
+//                  pinned: moved to one of the design's vertex_pins),
 //                  "clearance" (its distance from the loops within its
 //                  region), "inradius" (the region's largest)}]
 //     edges      [{"points" (n,3), "vertices": [i, j], "arc", "loop",
@@ -82,6 +83,7 @@ const char* placement_name(VertexPlacement p) {
     case VertexPlacement::Feature: return "feature";
     case VertexPlacement::Singularity: return "singularity";
     case VertexPlacement::Centre: return "centre";
+    case VertexPlacement::Pinned: return "pinned";
   }
   return "centre";
 }
@@ -127,12 +129,12 @@ struct DesignLayout {
 
 // Arrangement and regions of embedded loops, and (primal) their quad layout.
 DesignLayout layout_of(const Surface& s, std::vector<LoopPath>& paths, const std::vector<Singularity>& singular,
-                       bool primal) {
+                       bool primal, const std::vector<Vec3>& pins = {}) {
   DesignLayout out;
   out.computed = compute(s, paths, singular);
   if (primal) {
     const auto t0 = Clock::now();
-    out.layout = build_quad_layout(s, out.computed.arrangement, out.computed.regions, singular);
+    out.layout = build_quad_layout(s, out.computed.arrangement, out.computed.regions, singular, pins);
     out.layout_ms = millis(t0, Clock::now());
   }
   return out;
@@ -144,7 +146,7 @@ DesignLayout design_layout(const DesignState& d, bool primal, const std::vector<
   std::vector<LoopPath> paths;
   for (const DesignStrip& st : d.strips()) paths.push_back(st.path);
   for (const Loop& loop : extra) paths.push_back(loop_path(d.session(), loop));
-  return layout_of(d.surface(), paths, d.field().singularities, primal);
+  return layout_of(d.surface(), paths, d.field().singularities, primal, d.vertex_pins());
 }
 
 py::dict layout_dict(const Surface& s, const std::vector<Singularity>& singular, const DesignLayout& dl,

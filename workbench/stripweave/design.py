@@ -124,10 +124,13 @@ class Strip:
 
 
 class Design:
-    """An ordered list of strips, with the loop options and the model it was made on."""
+    """An ordered list of strips, with the loop options and the model it was made on, and the
+    points where the user put primal vertices (`pins`, model units: paper §7, a vertex dragged
+    within its region; the layout moves each pinned region's vertex there)."""
 
-    def __init__(self, strips=(), options=None, model=None, extra=None, symmetry=None):
+    def __init__(self, strips=(), options=None, model=None, extra=None, symmetry=None, pins=None):
         self.strips = [s if isinstance(s, Strip) else Strip(s) for s in strips]
+        self.pins = [[float(x) for x in p] for p in (pins or ())]
         self.symmetry = None if symmetry is None else [dict(x) for x in symmetry]
         self.options = {**DEFAULT_OPTIONS, **(options or {})}
         self.model = dict(model or {})
@@ -192,6 +195,10 @@ class Design:
                 raise _error("", "'symmetry' must be a list")
             for i, entry in enumerate(symmetry):
                 check(entry, f", symmetry {i + 1}")
+        pins = data.get("pins", [])
+        if not isinstance(pins, list):
+            raise _error("", "'pins' must be a list of points")
+        pins = [_vector(p, f", pin {i + 1}", "a pin") for i, p in enumerate(pins)]
         strips = []
         for i, s in enumerate(data["strips"]):
             where = f", strip {i + 1}"
@@ -214,13 +221,15 @@ class Design:
                                 {k: v for k, v in s.items() if k not in ("anchors", "closed")}))
         return cls(strips, options, data.get("model"),
                    {k: v for k, v in data.items()
-                    if k not in ("format", "version", "model", "options", "strips", "symmetry")}, symmetry)
+                    if k not in ("format", "version", "model", "options", "strips", "symmetry", "pins")}, symmetry, pins)
 
     def to_dict(self):
         d = {**self.extra, "format": FORMAT, "version": VERSION, "model": dict(self.model),
              "options": dict(self.options), "strips": [s.to_dict() for s in self.strips]}
         if self.symmetry is not None:
             d["symmetry"] = [dict(x) for x in self.symmetry]
+        if self.pins:
+            d["pins"] = [list(p) for p in self.pins]
         return d
 
     @classmethod

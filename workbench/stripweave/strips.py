@@ -34,6 +34,7 @@ class DesignSession:
     # --- editing -----------------------------------------------------------
     def update(self):
         """Recompute what changed since the last update (after editing self.design)."""
+        self.native.vertex_pins = self.design.pins   # the layout's alone: nothing to derive
         try:
             self.native.set_strips(self.design.anchor_lists())
         finally:

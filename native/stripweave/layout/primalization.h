@@ -67,6 +67,11 @@ struct PrimalContext {
 // (primal_vertex_balance.cpp).
 std::vector<double> side_balance(const PrimalContext& ctx);
 
+// pin_primal_vertices  move the vertex of each pin's region to the pin
+//                      (quad_layout.h; primal_vertex_pins.cpp)
+void pin_primal_vertices(const PrimalContext& ctx, const std::vector<Vec3>& pins, std::vector<PrimalVertex>& vertices,
+                         std::vector<Index>& vertex_wedge);
+
 std::vector<PrimalVertex> place_primal_vertices(const PrimalContext& ctx, const std::vector<Singularity>& singularities,
                                                 std::vector<Index>& vertex_wedge);
 

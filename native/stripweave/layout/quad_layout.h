@@ -1,10 +1,12 @@
 // Primalization (paper §7): the quad layout that a valid set of dual loops
 // implies, embedded in the refined mesh of their arrangement.
 //
-// build_quad_layout(surface, arrangement, regions, singularities) -> QuadLayout
+// build_quad_layout(surface, arrangement, regions, singularities, pins) -> QuadLayout
 //   Input : the surface; the loops' arrangement (loop_arrangement.h) and its
 //           regions (regions.h), computed with the same singularities
-//           (cross_field.h).
+//           (cross_field.h); pins: points (normalized units) where the user
+//           put primal vertices (§7: dragged within their regions), none by
+//           default.
 //   Structure (fixed by the loops): one primal vertex per region, one primal
 //           edge per arc (a loop's piece between crossings) joining the
 //           regions on its two sides, one quad patch per crossing bounded by
@@ -24,7 +26,11 @@
 //               sides, where the corridors' middles cross
 //               (primal_vertex_balance.cpp), among the points at least half
 //               the inradius from the loops. A boundary vertex also goes
-//               where the sides balance.
+//               where the sides balance. A pin then moves its region's
+//               vertex to the region's point nearest the pin, among the
+//               points the rules allow there: on the boundary for a
+//               boundary region, on the crease for a region carrying one,
+//               and nowhere for a corner of the part, which stays.
 //     edges     primal_edges.cpp: shortest paths in the region cut open along
 //               the loops (each region's shortest-path tree from its vertex,
 //               so edges leaving a vertex never cross; edges of different
@@ -62,7 +68,7 @@
 
 namespace stripweave {
 
-enum class VertexPlacement : std::uint8_t { Corner, Boundary, Feature, Singularity, Centre };
+enum class VertexPlacement : std::uint8_t { Corner, Boundary, Feature, Singularity, Centre, Pinned };
 
 struct PrimalVertex {
   Index region = kInvalid;
@@ -130,6 +136,6 @@ struct QuadLayout {
 constexpr double kCreaseSlack = 1e-6;  // of the bounding-box diagonal
 
 QuadLayout build_quad_layout(const Surface& surface, const LoopArrangement& arrangement, const Regions& regions,
-                             const std::vector<Singularity>& singularities);
+                             const std::vector<Singularity>& singularities, const std::vector<Vec3>& pins = {});
 
 }  // namespace stripweave

@@ -74,6 +74,13 @@ class DesignState {
   void set_compatibility_angle(double degrees);
   double compatibility_angle() const { return angle_deg_; }
 
+  // Primal vertices the user placed (paper §7: a vertex is dragged within
+  // its region), normalized units: each moves its region's vertex to the
+  // point of the region nearest it (primal_vertices.cpp). Not derived state:
+  // the loops, field and strips do not depend on them, only the layout.
+  void set_vertex_pins(std::vector<Vec3> pins) { pins_ = std::move(pins); }
+  const std::vector<Vec3>& vertex_pins() const { return pins_; }
+
   // The compatibility mask of all strips, sorted node ids.
   const std::vector<Index>& disabled_nodes() const { return mask_; }
   // Hand that mask to the session (replacing its mask), for new loops.
@@ -121,6 +128,7 @@ class DesignState {
   double band_ = std::numeric_limits<double>::infinity();
   double angle_deg_ = 45.0;
   std::vector<DesignStrip> strips_;
+  std::vector<Vec3> pins_;
   CrossField field_;
   Parameterization param_;
   DesignTimings timings_;
