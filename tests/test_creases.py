@@ -131,6 +131,32 @@ def test_crease_circle_without_junction_lies_on_primal_edges():
     assert_creases_on_edges(surface, L)
 
 
+def test_two_rims_apart_in_one_region_are_parted_across_the_loop_between_them():
+    """A capped cylinder cut by two meridians: each of the four regions holds a piece of the top
+    rim and a piece of the bottom rim, both leaving across the same two arcs and meeting nowhere
+    in it ("crease crosses one arc twice"; a plate's hole walls between two loops through the
+    hole are the same). The loop that parts them crosses a meridian between its two exits, so
+    the region is seeded there: halfway down the meridian on the side wall, leaving across it
+    (around the axis). Seeded at an exit on a rim, every loop through the seed met the meridian
+    running the same way, and the plate's hole stayed a crease region. From the two meridians,
+    weaving then makes the layout crease-conforming."""
+    surface = sw.from_shape(capped_cylinder(5, 20), target_triangles=12000)
+    ds = DesignSession(surface, Design([[(0, -5, 10, 0, 0, 1)], [(-5, 0, 10, 0, 0, 1)]]))
+    a = native.weave_assessment(ds.native, [], 1)
+    assert len(a["regions"]) == 4
+    for r in a["regions"]:
+        assert r["colour"] == "crease" and r["crease_problem"] == "crease crosses one arc twice"
+        x, y, z = r["crease_seed"]
+        assert math.hypot(x, y) == pytest.approx(5, abs=0.05) and 8 < z < 12
+        across = np.asarray(r["crease_seed_across"])
+        radial = np.array([x, y, 0]) / math.hypot(x, y)
+        assert abs(across[2]) < 0.2 and abs(float(np.dot(across, radial))) < 0.2
+    auto_weave(ds, WeaveOptions())
+    L = compute_layout(ds)
+    assert L["valid"] and L["crease_conforming"]
+    assert_creases_on_edges(surface, L)
+
+
 def test_boss_on_a_plate_conforms_with_its_rims_on_primal_edges():
     """A cylinder boss on a plate: its top rim (convex) and base (concave) are crease circles,
     the plate's edges meet at corners. Belts over the boss, a loop round its side and belts

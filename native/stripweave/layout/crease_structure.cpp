@@ -140,6 +140,8 @@ struct Analysis {
                                                                                   : kInvalid;
       rc.split_vertex =
           from != kInvalid && other_end != kInvalid ? middle_of_path(edges, from, other_end, rc.split_across) : kInvalid;
+      if (rc.split_vertex == kInvalid && rc.problem == CreaseProblem::SameArc)
+        rc.split_vertex = middle_of_arc(twice->first, from, other_end, rc.split_across);
       if (rc.split_vertex == kInvalid) rc.split_vertex = rc.problem_vertex;
     }
     for (Index v : vertices) degree[v] = 0;
@@ -162,6 +164,27 @@ struct Analysis {
     if (!pred.count(b)) return kInvalid;
     std::vector<Index> path{b};
     while (path.back() != a) path.push_back(pred[path.back()]);
+    double total = 0;
+    for (size_t i = 0; i + 1 < path.size(); ++i) total += length(path[i], path[i + 1]);
+    double run = 0;
+    size_t i = 0;
+    while (i + 2 < path.size() && (run += length(path[i], path[i + 1])) < 0.5 * total) ++i;
+    across = across_crease(path, i);
+    return path[std::min(i + 1, path.size() - 1)];
+  }
+
+  // Two creases that leave the region across one arc without meeting in it
+  // (a hole's two rims on the wall between two loops through the hole): the
+  // loop that parts them crosses that arc between the two exits, so the
+  // split is the arc's vertex halfway (by length) between them, and the
+  // direction across the arc there (the new loop crosses the old one, which
+  // the two exits' pieces lie on either side of). kInvalid if either exit is
+  // not on the arc.
+  Index middle_of_arc(Index k, Index a, Index b, Vec3& across) const {
+    const std::vector<Index>& v = A.arcs[k].vertices;
+    const auto ia = std::find(v.begin(), v.end(), a), ib = std::find(v.begin(), v.end(), b);
+    if (ia == v.end() || ib == v.end() || ia == ib) return kInvalid;
+    const std::vector<Index> path(std::min(ia, ib), std::max(ia, ib) + 1);
     double total = 0;
     for (size_t i = 0; i + 1 < path.size(); ++i) total += length(path[i], path[i + 1]);
     double run = 0;
