@@ -164,13 +164,7 @@ struct Analysis {
     if (!pred.count(b)) return kInvalid;
     std::vector<Index> path{b};
     while (path.back() != a) path.push_back(pred[path.back()]);
-    double total = 0;
-    for (size_t i = 0; i + 1 < path.size(); ++i) total += length(path[i], path[i + 1]);
-    double run = 0;
-    size_t i = 0;
-    while (i + 2 < path.size() && (run += length(path[i], path[i + 1])) < 0.5 * total) ++i;
-    across = across_crease(path, i);
-    return path[std::min(i + 1, path.size() - 1)];
+    return halfway(path, across);
   }
 
   // Two creases that leave the region across one arc without meeting in it
@@ -185,6 +179,12 @@ struct Analysis {
     const auto ia = std::find(v.begin(), v.end(), a), ib = std::find(v.begin(), v.end(), b);
     if (ia == v.end() || ib == v.end() || ia == ib) return kInvalid;
     const std::vector<Index> path(std::min(ia, ib), std::max(ia, ib) + 1);
+    return halfway(path, across);
+  }
+
+  // The vertex of a path halfway along it (by length), and the direction
+  // across the path there.
+  Index halfway(const std::vector<Index>& path, Vec3& across) const {
     double total = 0;
     for (size_t i = 0; i + 1 < path.size(); ++i) total += length(path[i], path[i + 1]);
     double run = 0;
