@@ -85,8 +85,8 @@ def overlay_state(vobj):
 
 
 def viewport_widget():
-    from freecad.stripweave_wb.design_tool import _viewport_widgets
-    ws = [w for w in _viewport_widgets() if not isinstance(w, QtGui.QGraphicsView)]
+    from freecad.stripweave_wb.view_input import viewport_widgets
+    ws = [w for w in viewport_widgets() if not isinstance(w, QtGui.QGraphicsView)]
     return ws[0] if ws else None
 
 

@@ -136,6 +136,6 @@ def register():
 
 register()
 
-from . import design_commands, job_commands  # noqa: E402  (register the design and main-job commands)
+from . import design_commands, job_commands, layout_commands  # noqa: E402  (register the other commands)
 
-COMMANDS = [PREPARE_SURFACE] + design_commands.COMMANDS + job_commands.COMMANDS
+COMMANDS = [PREPARE_SURFACE] + design_commands.COMMANDS + job_commands.COMMANDS + layout_commands.COMMANDS

@@ -13,7 +13,7 @@
   no anchor reproduces it).  A click where nothing is shown adds the loop
   through the picked point as a positional anchor.  The tool owns the
   click: while it runs, FreeCAD's preselection and selection are off in its
-  view (``SelectionSuspended``), and the press and the release of a click
+  view (``view_input.SelectionSuspended``), and the press and the release of a click
   on the model are both marked handled, so neither selects the part;
 * grab-and-drag (§4.1's route-planner metaphor): a press on a committed
   strip's loop (within GRAB_TOLERANCE_PX of it; the cursor is an open hand
@@ -69,6 +69,7 @@ from . import derive_async, design_model, messages
 from .design_overlay import PreviewOverlay
 from .design_panel import DesignPanel
 from .query_worker import QueryWorker
+from .view_input import ViewCapture, design_objects, pick_on, set_cursor
 
 POLL_MS = 30
 ALTERNATIVES = 6
@@ -192,11 +193,9 @@ class DesignTool:
         self._press_point = None      # the surface point under the press
         self.drag_anchor = None       # (x, y, z, dx, dy, dz) while dragging
         self.pending = []             # Shift+click's anchors of the strip being made (Enter adds it)
-        self._callbacks = []
         self._filter = _ViewEventFilter(self)
-        self._filtered = []
-        self._scene = None
-        self._selection = None
+        self._filtered = []           # the view's widgets (cursor) while the tool runs
+        self._capture = None          # ViewCapture while the tool runs
         self.timer = QtCore.QTimer()
         self.timer.setInterval(POLL_MS)
         self.timer.timeout.connect(self._poll)
@@ -208,15 +207,10 @@ class DesignTool:
 
     def open(self):
         obj = self.obj()
-        self._scene = self.view.getSceneGraph()
-        self._scene.addChild(self.preview.root)
-        self._selection = SelectionSuspended(self._scene)
-        for cls, fn in ((coin.SoLocation2Event, self._on_move), (coin.SoMouseButtonEvent, self._on_button),
-                        (coin.SoKeyboardEvent, self._on_key)):
-            self._callbacks.append((cls, self.view.addEventCallbackPivy(cls.getClassTypeId(), fn)))
-        for w in _viewport_widgets():
-            w.installEventFilter(self._filter)
-            self._filtered.append(w)
+        self._capture = ViewCapture(self.view, self.preview.root, (
+            (coin.SoLocation2Event, self._on_move), (coin.SoMouseButtonEvent, self._on_button),
+            (coin.SoKeyboardEvent, self._on_key)), self._filter)
+        self._filtered = self._capture.widgets
         Gui.Control.showDialog(self.panel)
         self._refresh_panel(obj)
         self.timer.start()
@@ -232,25 +226,11 @@ class DesignTool:
         self.timer.stop()
         if self.worker is not None:
             self.worker.stop()
-        for cls, cb in self._callbacks:
-            try:
-                self.view.removeEventCallbackPivy(cls.getClassTypeId(), cb)
-            except Exception:
-                pass
-        self._callbacks = []
-        for w in self._filtered:
-            try:
-                w.removeEventFilter(self._filter)
-            except RuntimeError:
-                pass
         self._set_cursor(None)
+        if self._capture is not None:
+            self._capture.release()
+            self._capture = None
         self._filtered = []
-        if self._selection is not None:
-            self._selection.restore()
-            self._selection = None
-        if self._scene is not None:
-            self._scene.removeChild(self.preview.root)
-            self._scene = None
         if not from_panel and Gui.Control.activeDialog():
             Gui.Control.closeDialog()
         if _active is self:
@@ -528,18 +508,7 @@ class DesignTool:
         """The point of the model under screen position (x, y) (Coin
         coordinates, origin bottom left), or None."""
         obj = self.obj()
-        if obj is None:
-            return None
-        names = {obj.Name}
-        sm = obj.Surface
-        if sm is not None:
-            names.add(sm.Name)
-            if sm.Source is not None:
-                names.add(sm.Source.Name)
-        info = self.view.getObjectInfo((int(x), int(y)))
-        if not info or not (names & {info.get("Object"), info.get("ParentObject")}):
-            return None
-        return (float(info["x"]), float(info["y"]), float(info["z"]))
+        return pick_on(self.view, design_objects(obj), x, y) if obj is not None else None
 
     def hover_screen(self, x, y):
         """Mouse moved to (x, y): propose the best loop through the point
@@ -560,14 +529,7 @@ class DesignTool:
         if shape == getattr(self, "_cursor", None):
             return
         self._cursor = shape
-        for w in self._filtered:
-            try:
-                if shape is None:
-                    w.unsetCursor()
-                else:
-                    w.setCursor(QtGui.QCursor(shape))
-            except RuntimeError:   # the view was closed
-                pass
+        set_cursor(self._filtered, shape)
 
     def hover_point(self, point):
         """Propose the best loop through ``point`` (a surface point)."""
@@ -856,50 +818,3 @@ def _polyline_gap(points, point):
     length2 = np.maximum((ab * ab).sum(axis=1), 1e-300)
     t = np.clip(((p - a) * ab).sum(axis=1) / length2, 0.0, 1.0)
     return float(np.linalg.norm(a + t[:, None] * ab - p, axis=1).min())
-
-
-class SelectionSuspended:
-    """Preselection and selection off in one view while a tool runs.
-
-    FreeCAD's selection node (SoFCUnifiedSelection, the root of the view's
-    scene graph) handles a button release before the event reaches any
-    event callback below it, and marks it handled when the cursor is over a
-    part: the tool would see the press but never the release, and the click
-    would select the part.  Its ``highlightMode`` and ``selectionMode``
-    fields switch both off for this view only (what FreeCAD's own
-    EnablePreselection / EnableSelection preferences set, without touching
-    the user's parameters); :meth:`restore` puts the old values back."""
-
-    OFF = 2  # SoFCUnifiedSelection::OFF (its HighlightModes: AUTO, ON, OFF)
-
-    def __init__(self, scene):
-        self.scene = scene  # keeps the node (and so its fields) alive until restore
-        self.fields = []
-        for name in ("highlightMode", "selectionMode"):
-            field = scene.getField(name) if scene is not None else None
-            if field is not None:
-                self.fields.append((field, field.getValue()))
-                field.setValue(self.OFF)
-        Gui.Selection.clearPreselection()
-        Gui.Selection.clearSelection()
-
-    def restore(self):
-        for field, value in self.fields:
-            field.setValue(value)
-        self.fields = []
-        self.scene = None
-
-
-def _viewport_widgets():
-    """The widgets of the active 3D view that receive mouse and key events."""
-    mw = Gui.getMainWindow()
-    mdi = mw.findChild(QtGui.QMdiArea)
-    sub = mdi.activeSubWindow() if mdi is not None else None
-    if sub is None or sub.widget() is None:
-        return []
-    out = []
-    for gv in sub.widget().findChildren(QtGui.QGraphicsView):
-        out.append(gv)
-        if gv.viewport() is not None:
-            out.append(gv.viewport())
-    return out

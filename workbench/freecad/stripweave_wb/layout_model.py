@@ -10,7 +10,8 @@ App side (works under ``freecadcmd``)::
     layout.Shape                             # compound: the layout's edges (wires) and vertices
     json.loads(layout.LayoutJson)            # layout.json
 
-Inputs: ``Design`` (link).  Outputs: ``Shape``, ``LayoutJson`` (layout.json,
+Inputs: ``Design`` (link) and the design's ``pins`` (design.json: primal
+vertices the user placed, paper §7; layout_pins.py edits them).  Outputs: ``Shape``, ``LayoutJson`` (layout.json,
 what a reopened document shows), ``Valid``, ``Clean``, ``PatchCount``,
 ``Regions`` (counts by colour), ``Defects`` (one line per defect, with where)
 and ``Status``.  The region colours (red: not a disc; orange and yellow:
@@ -38,13 +39,19 @@ def layouts_of(design):
 
 
 def compute(ds, params=None, task=None):
-    """On the worker: layout.json of the DesignSession and, for drawing, the
-    solver mesh with per triangle its region's colour and its patch (of the
-    refined triangles the arrangement cut it into, the last: as preview.png)."""
+    """On the worker: layout.json of the DesignSession with the pins of
+    ``params`` and, for drawing, the solver mesh with per triangle its
+    region, its region's colour and its patch (of the refined triangles the
+    arrangement cut it into, the last: as preview.png)."""
     import numpy as np
     from stripweave.layout import layout_json
     if task is not None:
         task.report(0.1, "regions and primal layout")
+    # Pins are not part of the derived state's key (they shape the layout only):
+    # the session may hold older ones, so the layout sets those it is computed for.
+    pins = [list(map(float, p)) for p in (params or {}).get("pins", [])]
+    ds.design.pins = pins
+    ds.native.vertex_pins = pins
     raw = ds.native.layout(True)
     data = layout_json(raw)
     colours = np.array([r["colour"] for r in raw["regions"]] + ["none"])
@@ -55,9 +62,11 @@ def compute(ds, params=None, task=None):
     colour[parent] = colours[np.where(region < 0, len(colours) - 1, region)]
     patch = np.full(count, -1, dtype=np.int64)
     patch[parent] = np.asarray(raw["patch_of_triangle"], dtype=np.int64)
+    region_of = np.full(count, -1, dtype=np.int64)
+    region_of[parent] = region
     mesh = {"vertices": np.asarray(ds.surface.vertices, dtype=float).reshape(-1, 3),
             "triangles": np.asarray(ds.surface.triangles, dtype=np.int64).reshape(-1, 3),
-            "colour": colour.tolist(), "patch": patch}
+            "colour": colour.tolist(), "patch": patch, "region": region_of}
     return {"layout": data, "mesh": mesh}
 
 
@@ -125,7 +134,12 @@ class LayoutModel(DerivedObject):
         return d if d is not None and is_design(d) else None
 
     def parameters(self, obj):
-        return {}
+        """The design's pins: moving a vertex changes the layout, not the derived design."""
+        design = self.design_of(obj)
+        try:
+            return {"pins": design.Proxy.design(design).pins if design is not None else []}
+        except Exception:   # a DesignJson that does not parse: the design's recompute says why
+            return {"pins": []}
 
     def compute(self, ds, params, task):
         return compute(ds, params, task)

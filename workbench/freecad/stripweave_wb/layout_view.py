@@ -1,7 +1,8 @@
 """View provider of the Layout object: the patches tinted on the refined
 mesh (a pastel per patch; red, crease, orange and yellow regions in their colours,
 §4.2), the layout's edges as dark lines, its vertices as dots (irregular
-ones larger) and its defects as red crosses.
+ones larger, pinned ones, placed by hand (§7, layout_pins.py), as larger
+green squares with a diamond) and its defects as red crosses.
 
 Display mode "Layout" (this overlay); the Shape (edges and vertices) is what
 selection and other workbenches see.  The tinted mesh needs the result kept
@@ -21,6 +22,11 @@ OUTSIDE_TINT = (0.8, 0.8, 0.8)
 EDGE_COLOR = (0.1, 0.15, 0.35)
 VERTEX_COLOR = (0.1, 0.15, 0.35)
 IRREGULAR_COLOR = (0.85, 0.1, 0.6)
+PINNED_COLOR = (0.0, 0.7, 0.15)   # no patch tint or region colour is this green
+PINNED_SIZE = 12.0                 # pixels: larger than every other dot (markers are 9 px at most)
+# A pinned dot is drawn this fraction of the diagonal out along the surface
+# normal (lift.py): a square that large would cut into the tinted mesh.
+PINNED_LIFT = 0.004
 DEFECT_COLOR = (0.9, 0.0, 0.0)
 ROOT_NODE = "StripWeaveLayout"
 
@@ -69,22 +75,33 @@ class LayoutOverlay:
         lines.addChild(self.edges.root)
         self.vertices, self.vertex_coords = self._markers(lines, VERTEX_COLOR, "CIRCLE_FILLED_7_7")
         self.irregular, self.irregular_coords = self._markers(lines, IRREGULAR_COLOR, "CIRCLE_FILLED_9_9")
+        _, self.pinned_coords = self._markers(lines, PINNED_COLOR, None, PINNED_SIZE)
+        self.pinned, self.pinned_marker_coords = self._markers(lines, PINNED_COLOR, "DIAMOND_FILLED_9_9")
         self.defects, self.defect_coords = self._markers(lines, DEFECT_COLOR, "CROSS_9_9")
         self.root.addChild(lines)
 
     @staticmethod
-    def _markers(parent, colour, kind):
+    def _markers(parent, colour, kind, size=None):
+        """Markers of ``kind`` (SoMarkerSet's), or with ``size`` square
+        points of that many pixels (Coin's markers stop at 9).  Returns
+        (the shape node, its coordinates node)."""
         from pivy import coin
         sep = coin.SoSeparator()
         c = coin.SoBaseColor()
         c.rgb.setValue(*colour)
         coords = coin.SoCoordinate3()
-        markers = coin.SoMarkerSet()
-        markers.markerIndex = getattr(coin.SoMarkerSet, kind)
-        for node in (c, coords, markers):
+        if size is None:
+            shape = coin.SoMarkerSet()
+            shape.markerIndex = getattr(coin.SoMarkerSet, kind)
+            nodes = (c, coords, shape)
+        else:
+            style, shape = coin.SoDrawStyle(), coin.SoPointSet()
+            style.pointSize = size
+            nodes = (c, style, coords, shape)
+        for node in nodes:
             sep.addChild(node)
         parent.addChild(sep)
-        return markers, coords
+        return shape, coords
 
     def set_mesh(self, mesh):
         if mesh is None or not len(mesh["triangles"]):
@@ -107,14 +124,21 @@ class LayoutOverlay:
         coords.point.setValues(0, len(points), [tuple(map(float, p)) for p in points]) if points else None
         coords.point.setNum(len(points))
 
-    def set_layout(self, layout):
+    def set_layout(self, layout, lift=None):
+        """``lift``: the design's NormalLift (lift.py) if derived, for the pinned dots."""
         edges = [e["points"] for e in layout.get("edges", []) if len(e["points"]) >= 2]
         self.edges.set_polylines([tuple(p) for e in edges for p in e], [len(e) for e in edges])
         vertices = layout.get("vertices", [])
-        regular = [v["position"] for v in vertices if v.get("valence") == 4 or v.get("boundary")]
-        irregular = [v["position"] for v in vertices if not (v.get("valence") == 4 or v.get("boundary"))]
+        pinned = [v["position"] for v in vertices if v.get("placement") == "pinned"]
+        free = [v for v in vertices if v.get("placement") != "pinned"]
+        regular = [v["position"] for v in free if v.get("valence") == 4 or v.get("boundary")]
+        irregular = [v["position"] for v in free if not (v.get("valence") == 4 or v.get("boundary"))]
         self._points(self.vertex_coords, regular)
         self._points(self.irregular_coords, irregular)
+        if lift is not None and pinned:
+            pinned = [tuple(p) for p in lift.lift(pinned, PINNED_LIFT)]
+        self._points(self.pinned_coords, pinned)
+        self._points(self.pinned_marker_coords, pinned)
         self._points(self.defect_coords, [loc["position"] for loc in layout.get("defect_locations", [])])
 
 
@@ -150,7 +174,9 @@ class ViewProviderLayout(StatelessViewProvider):
                 from PySide import QtCore
                 QtCore.QTimer.singleShot(100, self.redraw)
                 return
-            ov.set_layout(obj.Proxy.layout(obj))
+            design = obj.Proxy.design_of(obj)
+            derived = design.Proxy.derived(design) if design is not None else None
+            ov.set_layout(obj.Proxy.layout(obj), derived.lift if derived is not None else None)
             ov.set_mesh(obj.Proxy.mesh(obj))
         except Exception as exc:
             messages.log("layout not drawn: {}".format(exc))

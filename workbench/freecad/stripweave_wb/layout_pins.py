@@ -1,0 +1,103 @@
+"""Pinned primal vertices (paper §7, manual): a Layout's vertex dragged
+within its region becomes a pin of its Design (design.json's ``pins``,
+model units), which the layout moves that region's vertex to.
+
+App side (works under ``freecadcmd``)::
+
+    from freecad.stripweave_wb import layout_pins
+    layout_pins.move_vertex(layout, k, (x, y, z))   # transaction "Move layout vertex"
+    layout_pins.clear_pins(layout)                   # transaction "Clear layout pins"
+    layout_pins.pins_of(layout.Design)               # [[x, y, z], ...]
+
+Inputs: a Layout object (layout_model.py) whose layout.json is current,
+the index of one of its vertices, a point on the part.  Output: the
+Design's DesignJson with the pins changed (so the FCStd and an exported
+design.json keep them); the Layout recomputes from it.  Each region holds
+one primal vertex, so a region holds at most one pin that matters: moving
+vertex k replaces every pin lying in k's region (the one that placed it).
+"""
+
+import json
+
+import numpy as np
+
+from . import import_stripweave
+from .design_model import transaction
+
+MOVE = "Move layout vertex"
+CLEAR = "Clear layout pins"
+
+
+def pins_of(design):
+    """The Design's pins as [[x, y, z], ...] (model units)."""
+    return [list(p) for p in design.Proxy.design(design).pins]
+
+
+def _write_pins(design, pins, name):
+    """Replace the Design's pins in one transaction ``name`` and recompute
+    (the design's strips and options are kept, the JSON validated)."""
+    import_stripweave()
+    from stripweave.design import Design
+    data = json.loads(design.DesignJson)
+    data["pins"] = [[float(c) for c in p] for p in pins]
+    if not data["pins"]:
+        del data["pins"]
+    data = Design.from_dict(data).to_dict()
+    doc = design.Document
+    with transaction(doc, name):
+        design.DesignJson = json.dumps(data, indent=1)
+        doc.recompute()
+
+
+def region_of_point(mesh, point):
+    """The region (layout.json index) of the solver triangle nearest
+    ``point`` (centroid distance: pins lie on the surface, so the nearest
+    centroid is the triangle under them up to a solver edge), or -1 on a
+    loop.  ``mesh``: LayoutModel.mesh (with "region")."""
+    v, t = mesh["vertices"], mesh["triangles"]
+    centroids = v[t].mean(axis=1)
+    i = int(np.argmin(np.linalg.norm(centroids - np.asarray(point, dtype=float), axis=1)))
+    return int(mesh["region"][i])
+
+
+def pins_in_region(layout_obj, vertex, pins):
+    """Indices of ``pins`` lying in the region of layout vertex ``vertex``.
+    Without the region mesh in memory (a reopened document before its
+    recompute): the pins nearer to that vertex than to any other vertex."""
+    layout = layout_obj.Proxy.layout(layout_obj)
+    vertices = layout.get("vertices", [])
+    mesh = layout_obj.Proxy.mesh(layout_obj)
+    if mesh is not None and "region" in mesh:
+        region = int(vertices[vertex]["region"])
+        return [i for i, p in enumerate(pins) if region_of_point(mesh, p) == region]
+    positions = np.asarray([v["position"] for v in vertices], dtype=float)
+    return [i for i, p in enumerate(pins)
+            if int(np.argmin(np.linalg.norm(positions - np.asarray(p), axis=1))) == vertex]
+
+
+def move_vertex(layout_obj, vertex, point):
+    """Pin layout vertex ``vertex`` at surface point ``point``: the pin
+    replaces those in its region (undo step "Move layout vertex").  Returns
+    the Design's new pins.  ValueError (nothing changed) for a vertex the
+    layout does not have."""
+    layout = layout_obj.Proxy.layout(layout_obj)
+    vertices = layout.get("vertices", [])
+    if not 0 <= int(vertex) < len(vertices):
+        raise ValueError("StripWeave: layout '{}' has no vertex {}".format(layout_obj.Label, vertex))
+    design = layout_obj.Design
+    pins = pins_of(design)
+    replaced = set(pins_in_region(layout_obj, int(vertex), pins))
+    pins = [p for i, p in enumerate(pins) if i not in replaced] + [[float(c) for c in point]]
+    _write_pins(design, pins, MOVE)
+    return pins
+
+
+def clear_pins(layout_obj):
+    """Remove every pin of the Layout's Design (undo step "Clear layout
+    pins"); the vertices go back to their automatic places.  False if there
+    were none."""
+    design = layout_obj.Design
+    if not pins_of(design):
+        return False
+    _write_pins(design, [], CLEAR)
+    return True

@@ -1,0 +1,257 @@
+"""The "Edit layout vertices" tool (paper §7, manual primalization): drag
+a primal vertex of a Layout object within its region with the mouse.
+
+* a left press within PICK_TOLERANCE_PX of a layout vertex's dot (on the
+  side of the part facing the viewer) grabs it (closed-hand cursor; an open
+  hand over a vertex shows that a press would grab it);
+* dragging shows a green square (a pinned vertex's dot) at the point of the part under the cursor;
+* the release on the part pins the vertex there: the point becomes a pin
+  of the Layout's Design, replacing the pin of that vertex's region
+  (layout_pins.move_vertex, one undoable transaction "Move layout
+  vertex"); the Layout recomputes in the background and draws the vertex,
+  now placed "pinned", as a green square (layout_view.py).  A release off
+  the part moves nothing;
+* presses elsewhere go on to the navigation style (rotate, pan);
+* preselection and selection are off in the view while the tool runs
+  (view_input.ViewCapture); Esc, or the command again, ends it.
+
+Coin event callbacks never edit the document or add nodes (that would
+happen during a scene traversal): the edit runs from a zero-delay timer.
+
+Scriptable (tests, macros)::
+
+    tool = layout_tool.start(layout_obj); tool.vertex_at(x, y); tool.close()
+"""
+
+import numpy as np
+
+import FreeCAD as App
+import FreeCADGui as Gui
+from PySide import QtCore
+from pivy import coin
+
+from . import messages
+from .layout_view import PINNED_COLOR, PINNED_SIZE
+from .view_input import ViewCapture, design_objects, pick_on, set_cursor
+
+# A press this close to a vertex's dot (screen pixels) grabs it: the dot's
+# radius (9 px markers) plus a hand's slack.
+PICK_TOLERANCE_PX = 8
+# A vertex whose dot is under the cursor but farther than this fraction of
+# the layout's diagonal from the surface point there lies behind the part.
+HIDDEN_FRACTION = 0.05
+
+_active = None
+
+
+def active_tool():
+    return _active
+
+
+def start(layout_obj):
+    """Start the tool on Layout ``layout_obj`` (ending one on another
+    layout and the Design strips tool, which owns the same mouse).  Returns
+    the tool, or None when it cannot start (reported)."""
+    global _active
+    from . import design_tool
+    if _active is not None and not _active.closed:
+        if (_active.doc_name, _active.obj_name) == (layout_obj.Document.Name, layout_obj.Name):
+            return _active
+        _active.close()
+    view = Gui.activeDocument().activeView() if Gui.activeDocument() else None
+    if view is None or not hasattr(view, "getSceneGraph"):
+        messages.error("Edit layout vertices needs a 3D view: activate the document's 3D view first.")
+        return None
+    if design_tool.active_tool() is not None:
+        design_tool.active_tool().close()
+    if layout_obj.ViewObject is not None:
+        layout_obj.ViewObject.Visibility = True
+    if layout_obj.Proxy.mesh(layout_obj) is None:   # picks land on the tinted mesh: compute it
+        layout_obj.touch()
+        layout_obj.Document.recompute()
+    _active = LayoutVertexTool(layout_obj, view)
+    _active.open()
+    return _active
+
+
+def toggle(layout_obj):
+    """The command: end the running tool, or start it on ``layout_obj``."""
+    if _active is not None and not _active.closed:
+        _active.close()
+        return None
+    return start(layout_obj)
+
+
+class _EscFilter(QtCore.QObject):
+    """Esc in the 3D viewport ends the tool (Qt sees it before Coin does)."""
+
+    def __init__(self, tool):
+        super().__init__()
+        self.tool = tool
+
+    def eventFilter(self, watched, event):
+        if event.type() == QtCore.QEvent.KeyPress and event.key() == QtCore.Qt.Key_Escape:
+            QtCore.QTimer.singleShot(0, self.tool.close)
+            return True
+        return False
+
+
+class DragMarker:
+    """A green square at the point a grabbed vertex would be pinned at."""
+
+    def __init__(self):
+        self.root = coin.SoSeparator()
+        self.root.setName("StripWeaveLayoutDrag")
+        # unpickable: it sits under the cursor, where the release picks the part
+        style = coin.SoPickStyle()
+        style.style = coin.SoPickStyle.UNPICKABLE
+        # no depth test: the point is where the pick landed, so in sight, but
+        # the surface's triangles around it would cut its square
+        depth = coin.SoDepthBuffer()
+        depth.test = False
+        light = coin.SoLightModel()
+        light.model = coin.SoLightModel.BASE_COLOR
+        colour = coin.SoBaseColor()
+        colour.rgb.setValue(*PINNED_COLOR)   # as the vertex will be drawn
+        size = coin.SoDrawStyle()
+        size.pointSize = PINNED_SIZE
+        self.coords = coin.SoCoordinate3()
+        for node in (style, depth, light, colour, size, self.coords, coin.SoPointSet()):
+            self.root.addChild(node)
+        self.set(None)
+
+    def set(self, point):
+        if point is None:
+            self.coords.point.setNum(0)
+        else:
+            self.coords.point.setValues(0, 1, [tuple(map(float, point))])
+            self.coords.point.setNum(1)
+
+
+class LayoutVertexTool:
+    def __init__(self, obj, view):
+        self.doc_name, self.obj_name = obj.Document.Name, obj.Name
+        self.view = view
+        self.closed = False
+        self.marker = DragMarker()
+        self.grabbed = None        # the vertex index while one is dragged
+        self.last_error = None
+        self._filter = _EscFilter(self)
+        self._capture = None       # ViewCapture while the tool runs
+        self._cursor = None
+
+    def obj(self):
+        doc = App.listDocuments().get(self.doc_name)
+        return doc.getObject(self.obj_name) if doc else None
+
+    # -- life cycle -----------------------------------------------------------------
+    def open(self):
+        self._capture = ViewCapture(self.view, self.marker.root, (
+            (coin.SoLocation2Event, self._on_move), (coin.SoMouseButtonEvent, self._on_button),
+            (coin.SoKeyboardEvent, self._on_key)), self._filter)
+        messages.message("Edit layout vertices: drag a vertex of '{}' within its region to pin it there; "
+                         "Esc ends".format(self.obj().Label))
+
+    def close(self):
+        """End the tool (idempotent)."""
+        global _active
+        if self.closed:
+            return
+        self.closed = True
+        self._set_cursor(None)
+        if self._capture is not None:
+            self._capture.release()
+            self._capture = None
+        if _active is self:
+            _active = None
+
+    # -- picking ---------------------------------------------------------------------
+    def pick(self, x, y):
+        """The point of the part under Coin position (x, y), or None."""
+        obj = self.obj()
+        if obj is None:
+            return None
+        names = {obj.Name} | (design_objects(obj.Design) if obj.Design is not None else set())
+        return pick_on(self.view, names, x, y)
+
+    def vertex_at(self, x, y):
+        """The index of the layout vertex whose dot is within
+        PICK_TOLERANCE_PX of Coin position (x, y) and faces the viewer (the
+        nearest to the surface point there), or None."""
+        obj = self.obj()
+        vertices = obj.Proxy.layout(obj).get("vertices", []) if obj is not None else []
+        if not vertices:
+            return None
+        positions = np.asarray([v["position"] for v in vertices], dtype=float)
+        screen = np.asarray([tuple(self.view.getPointOnScreen(App.Vector(*p)))[:2] for p in positions])
+        near = np.flatnonzero(np.hypot(screen[:, 0] - x, screen[:, 1] - y) <= PICK_TOLERANCE_PX)
+        if not len(near):
+            return None
+        point = self.pick(x, y)
+        if point is None:
+            return None
+        gaps = np.linalg.norm(positions[near] - np.asarray(point), axis=1)
+        diagonal = float(np.linalg.norm(np.ptp(positions, axis=0))) or 1.0
+        best = int(np.argmin(gaps))
+        return int(near[best]) if gaps[best] <= HIDDEN_FRACTION * diagonal else None
+
+    # -- input -------------------------------------------------------------------------
+    def _on_button(self, event_cb):
+        ev = event_cb.getEvent()
+        if ev.getButton() != coin.SoMouseButtonEvent.BUTTON1:
+            return
+        x, y = (int(c) for c in ev.getPosition())
+        if ev.getState() == coin.SoButtonEvent.DOWN:
+            self.grabbed = self.vertex_at(x, y)
+            if self.grabbed is not None:
+                event_cb.setHandled()
+                self._set_cursor(QtCore.Qt.ClosedHandCursor)
+        elif ev.getState() == coin.SoButtonEvent.UP and self.grabbed is not None:
+            event_cb.setHandled()
+            vertex, self.grabbed = self.grabbed, None
+            point = self.pick(x, y)
+            self._set_cursor(None)
+            QtCore.QTimer.singleShot(0, lambda: self.drop(vertex, point))
+
+    def _on_move(self, event_cb):
+        x, y = (int(c) for c in event_cb.getEvent().getPosition())
+        if self.grabbed is not None:
+            event_cb.setHandled()
+            point = self.pick(x, y)
+            if point is not None:
+                self.marker.set(point)
+            return
+        self._set_cursor(QtCore.Qt.OpenHandCursor if self.vertex_at(x, y) is not None else None)
+
+    def _on_key(self, event_cb):
+        if coin.SoKeyboardEvent.isKeyPressEvent(event_cb.getEvent(), coin.SoKeyboardEvent.ESCAPE):
+            event_cb.setHandled()
+            QtCore.QTimer.singleShot(0, self.close)   # not inside the scene traversal
+
+    def _set_cursor(self, shape):
+        if shape != self._cursor and self._capture is not None:
+            self._cursor = shape
+            set_cursor(self._capture.widgets, shape)
+
+    # -- the edit ---------------------------------------------------------------------
+    def drop(self, vertex, point):
+        """Pin layout vertex ``vertex`` at surface point ``point`` (None: the
+        release was off the part, nothing moves).  True if the design changed."""
+        from . import layout_pins
+        self.marker.set(None)
+        obj = self.obj()
+        if obj is None or self.closed:
+            return False
+        if point is None:
+            self.last_error = "released off the part: vertex {} not moved".format(vertex + 1)
+            messages.warning(self.last_error)
+            return False
+        try:
+            layout_pins.move_vertex(obj, vertex, point)
+        except Exception as exc:
+            self.last_error = "vertex {} not moved: {}".format(vertex + 1, exc)
+            messages.error(self.last_error, dialog=False)
+            return False
+        self.last_error = None
+        messages.message("layout vertex {} pinned at ({:.4g}, {:.4g}, {:.4g})".format(vertex + 1, *point))
+        return True
