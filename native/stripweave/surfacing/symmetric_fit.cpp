@@ -204,7 +204,7 @@ void add(FitNets& acc, const FitNets& x, double w) {
 }
 
 // The group mean under one symmetry: (1/n) sum_k psi^k(X[sigma^-k(x)]).
-void group_mean(FitNets& nets, const PatchNetwork& net, const Symmetry& psi, const NetworkPairing& pairing) {
+void group_mean(FitNets& nets, const Symmetry& psi, const NetworkPairing& pairing) {
   const int n = psi.kind == SymmetryKind::Reflection ? 2 : psi.order;
   FitNets acc = nets, image = nets;
   for (int k = 1; k < n; ++k) {
@@ -247,7 +247,7 @@ double symmetrize_fit(FitNets& nets, const PatchNetwork& net, const std::vector<
   double error = symmetry_error(nets, net, symmetries, pairings);
   for (int pass = 0; pass < kMaxPasses && error > enough; ++pass) {
     for (size_t k = 0; k < symmetries.size(); ++k)
-      if (pairings[k].paired) group_mean(nets, net, symmetries[k], pairings[k]);
+      if (pairings[k].paired) group_mean(nets, symmetries[k], pairings[k]);
     error = symmetry_error(nets, net, symmetries, pairings);
   }
   set_boundary_rows(nets, net);
