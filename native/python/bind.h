@@ -3,6 +3,7 @@
 
 #include "stripweave/core/fp_guard.h"
 #include "stripweave/elastica/loop_session.h"
+#include "stripweave/symmetry/symmetry.h"
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -30,6 +31,9 @@ pybind11::dict path_dict(const stripweave::Surface& s, const stripweave::Surface
 // An (n, 3) array (or anything numpy turns into one) as points; InputError
 // "<what> must be an (n, 3) array" otherwise.
 std::vector<stripweave::Vec3> points_from(const pybind11::handle& a, const std::string& what);
+// A symmetry from its design.md dict (defined in bind_symmetry.cpp), in the
+// dict's units; InputError for a bad kind, vector or order.
+stripweave::Symmetry symmetry_of(const pybind11::dict& d);
 
 // A vector handed to numpy without a copy: the array owns it and frees it with
 // itself (a copy would double a supersampled picture's tens of MB for a moment).

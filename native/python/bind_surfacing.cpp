@@ -15,7 +15,9 @@
 //   Keyword options (FitOptions): relative_tolerance, initial_spans,
 //   max_spans, smoothing, seam_weight, seam_mode ('tangent' | 'c1'), tangent_rounds, edge_density, edge_smoothing, parameter_corrections, edge_snap, seam_from,
 //   seam_to, crease_angle_deg, vertex_tangent_planes, split_patches, max_splits,
-//   split_rounds, deviation_spacing and
+//   split_rounds, symmetries (design.md's symmetry dicts, model units: the
+//   STEP made exactly symmetric, surfacing/symmetric_fit.h), symmetry_tolerance
+//   (model units), deviation_spacing and
 //   deviation_chord (model units: how densely the reported deviation is
 //   measured, surfacing/fit_deviation.h; 0: the defaults).
 //   Returns (lengths in model units; the deviation is two-sided,
@@ -43,7 +45,9 @@
 //     splits [{patch, layout_patch, direction ('u': along u = at, 'v'), at,
 //     deviation_before, reason, strip, new_patches, closed_strip, round}]
 //     (fit_patch_network.h's PatchSplit), rejected_splits (the same, for
-//     splits tried and undone: their refit did not help), uncoupled_patches, max_seam_gap, max_seam_angle_deg (smooth seams,
+//     splits tried and undone: their refit did not help), symmetric, symmetry_error,
+//     symmetry_error_fit (None without symmetries or when the layout does not pair; symmetry_problem: why not),
+//     uncoupled_patches, max_seam_gap, max_seam_angle_deg (smooth seams,
 //     middle of each seam), max_seam_angle_deg_full (whole seam),
 //     max_seam_angle_deg_regular (whole seams between valence-4 vertices),
 //     max_sharp_angle_deg, smooth_seams, sharp_seams, boundary_edges, faces,
@@ -271,6 +275,14 @@ FitOptions options_from(const py::kwargs& kw) {
     else if (key == "split_patches") o.split_patches = py::cast<bool>(v);
     else if (key == "max_splits") o.max_splits = py::cast<int>(v);
     else if (key == "split_rounds") o.split_rounds = py::cast<int>(v);
+    else if (key == "symmetries") {
+      if (!py::isinstance<py::list>(v) && !py::isinstance<py::tuple>(v))
+        throw InputError("refit: symmetries is a list of symmetry dicts");
+      for (const auto& d : v) {
+        if (!py::isinstance<py::dict>(d)) throw InputError("refit: symmetries is a list of symmetry dicts");
+        o.symmetries.push_back(symmetry_of(py::reinterpret_borrow<py::dict>(d)));
+      }
+    } else if (key == "symmetry_tolerance") o.symmetry_tolerance = py::cast<double>(v);
     else if (key == "progress") o.progress = v.is_none() ? nullptr : py::cast<Progress*>(v);
     else throw InputError("refit: unknown option '" + key + "'");
   }
@@ -353,6 +365,14 @@ void bind_surfacing(py::module_& m) {
         for (const PatchSplit& s : r.rejected_splits) rejected.append(split_dict(s));
         d["rejected_splits"] = rejected;
         d["uncoupled_patches"] = r.uncoupled_patches;
+        if (options.symmetries.empty()) {
+          d["symmetric"] = py::none(), d["symmetry_error"] = py::none(), d["symmetry_error_fit"] = py::none();
+        } else {
+          // Not paired: the fit is left as it is, and there is no image to measure against.
+          d["symmetric"] = r.symmetric, d["symmetry_problem"] = r.symmetry_problem;
+          d["symmetry_error"] = r.symmetric ? py::object(py::float_(r.symmetry_error)) : py::object(py::none());
+          d["symmetry_error_fit"] = r.symmetric ? py::object(py::float_(r.symmetry_error_fit)) : py::object(py::none());
+        }
         d["max_seam_gap"] = r.max_seam_gap;
         d["max_seam_angle_deg"] = r.max_seam_angle_deg;
         d["max_seam_angle_deg_full"] = r.max_seam_angle_deg_full;

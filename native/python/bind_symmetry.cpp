@@ -46,22 +46,6 @@ Vec3 vector_of(const py::dict& d, const char* key) {
   return Vec3(v[0], v[1], v[2]);
 }
 
-// A symmetry from its dict, in the dict's units.
-Symmetry symmetry_of(const py::dict& d) {
-  const std::string kind = d.contains("kind") ? py::str(d["kind"]).cast<std::string>() : "";
-  if (kind == "reflection") return Symmetry::reflection(vector_of(d, "point"), vector_of(d, "normal"));
-  if (kind == "rotation") {
-    if (!d.contains("order")) throw InputError("a rotation needs 'order'");
-    int order = 0;
-    try {
-      order = d["order"].cast<int>();
-    } catch (const py::cast_error&) {
-      throw InputError("a rotation's 'order' must be a whole number");
-    }
-    return Symmetry::rotation(vector_of(d, "point"), vector_of(d, "axis"), order);
-  }
-  throw InputError("a symmetry's kind must be 'reflection' or 'rotation', got '" + kind + "'");
-}
 
 Symmetry normalized(const Surface& s, Symmetry sym) {
   sym.point = s.similarity.to_normalized(sym.point);
@@ -83,6 +67,22 @@ py::dict dict_of(const Surface& s, const Symmetry& sym) {
 }
 
 }  // namespace
+
+Symmetry symmetry_of(const py::dict& d) {
+  const std::string kind = d.contains("kind") ? py::str(d["kind"]).cast<std::string>() : "";
+  if (kind == "reflection") return Symmetry::reflection(vector_of(d, "point"), vector_of(d, "normal"));
+  if (kind == "rotation") {
+    if (!d.contains("order")) throw InputError("a rotation needs 'order'");
+    int order = 0;
+    try {
+      order = d["order"].cast<int>();
+    } catch (const py::cast_error&) {
+      throw InputError("a rotation's 'order' must be a whole number");
+    }
+    return Symmetry::rotation(vector_of(d, "point"), vector_of(d, "axis"), order);
+  }
+  throw InputError("a symmetry's kind must be 'reflection' or 'rotation', got '" + kind + "'");
+}
 
 void bind_symmetry(py::module_& m) {
   m.def("detect_symmetries", [](const Surface& s, double tolerance, int max_order) {

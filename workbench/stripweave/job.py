@@ -139,13 +139,20 @@ def _corner_deviation_p95(layout):
     return float(deviations[low] + (rank - low) * (deviations[high] - deviations[low]))
 
 
-def _export_step(ds, tolerance, path):
+def _export_step(ds, tolerance, path, symmetries=(), symmetry_tolerance=None):
     """Fit NURBS patches to the design's primal layout and write them as STEP (the surfacing
     stage). Returns the "fit" block of report.json (model units: design.md's two-sided
     deviations, coverage, seam figures, per patch, shell facts) and, per surface triangle,
-    the fraction of its source area not within tolerance of a fitted patch (deviation.png)."""
+    the fraction of its source area not within tolerance of a fitted patch (deviation.png).
+    symmetries: the ones the weave used (design.md dicts, model units): the patches are fitted
+    exactly symmetric (native symmetric_fit.h); symmetry_tolerance: model units."""
     from .surfacing import fit_report, refit_design
-    result = refit_design(ds, tolerance=tolerance, step_path=path)
+    options = {}
+    if symmetries:
+        options["symmetries"] = [dict(s) for s in symmetries]
+        if symmetry_tolerance:
+            options["symmetry_tolerance"] = symmetry_tolerance
+    result = refit_design(ds, tolerance=tolerance, step_path=path, **options)
     return fit_report(result), result.get("triangle_uncovered")
 
 
@@ -304,7 +311,8 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
                 if not layout["valid"]:
                     raise native.InputError(f"cannot fit patches: the layout is not valid: {red_text}")
                 tol = tolerance if tolerance is not None else 1e-3 * report["bbox_diagonal"]
-                report["fit"], uncovered = _export_step(ds, tol, paths["step"])
+                report["fit"], uncovered = _export_step(ds, tol, paths["step"], symmetries,
+                                                       symmetry_tolerance * report["bbox_diagonal"])
                 lap("step")
                 if preview:
                     say("rendering deviation.png")

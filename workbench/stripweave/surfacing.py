@@ -101,6 +101,15 @@ def fit_report(result):
     fit.update({k: result[k] for k in EXTRA_KEYS})
     for key in ("splits", "rejected_splits"):
         fit[key] = [{k: s[k] for k in SPLIT_KEYS} for s in result.get(key, [])]
+    # With the weave's symmetries (native symmetric_fit.h): whether the layout paired under
+    # all of them, and the largest distance between mapped control points and their image's
+    # as fitted independently and as written (model units).
+    if result.get("symmetric") is not None:
+        fit["symmetric"] = bool(result["symmetric"])
+        for key in ("symmetry_error", "symmetry_error_fit"):
+            fit[key] = None if result[key] is None else float(result[key])
+        if result.get("symmetry_problem"):
+            fit["symmetry_problem"] = result["symmetry_problem"]
     fit["left_out_patches"] = int(result.get("left_out_patches", 0))
     fit["tolerance"] = float(result["tolerance"])
     fit["tolerance_met"] = bool(result["tolerance_met"])

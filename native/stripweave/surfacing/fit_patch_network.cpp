@@ -12,6 +12,7 @@
 #include "stripweave/surfacing/sample_memo.h"
 #include "stripweave/surfacing/source_projection.h"
 #include "stripweave/surfacing/split_strip.h"
+#include "stripweave/surfacing/symmetric_fit.h"
 
 #include <algorithm>
 #include <chrono>
@@ -184,6 +185,14 @@ FitResult fit_network(const Surface& surface, const PatchNetwork& network, const
     sort_unique(neighbours[p]);
   }
   const double enough = 1e-2 * tol;  // a sample this close needs no search among the neighbours
+
+  // Step 7: the layout's images under each symmetry.
+  std::vector<NetworkPairing> pairings;
+  const double symmetry_tol = options.symmetry_tolerance > 0 ? options.symmetry_tolerance : 1e-3 * diag;
+  for (const Symmetry& psi : options.symmetries) {
+    pairings.push_back(pair_network(network, psi, symmetry_tol));
+    if (!pairings.back().paired && report.symmetry_problem.empty()) report.symmetry_problem = pairings.back().problem;
+  }
 
   // --- 1. harmonic parameterization ----------------------------------------
   std::vector<PatchParameterization> param(nP);
@@ -432,6 +441,10 @@ FitResult fit_network(const Surface& surface, const PatchNetwork& network, const
     strips.unite(P.edges[0], P.edges[2]);
     strips.unite(P.edges[1], P.edges[3]);
   }
+  // A strip and its images share their span count (step 7).
+  for (const NetworkPairing& pairing : pairings)
+    if (pairing.paired)
+      for (Index e = 0; e < nE; ++e) strips.unite(e, pairing.edge_image[e]);
   std::vector<Index> strip_of(nE);
   for (Index e = 0; e < nE; ++e) strip_of[e] = strips.find(e);
   std::vector<int> spans(nE, std::max(1, options.initial_spans));  // per strip root
@@ -688,6 +701,21 @@ FitResult fit_network(const Surface& surface, const PatchNetwork& network, const
   }
   watch.lap("fit");
   checkpoint("reporting", 0.6, 0.62);
+
+  // --- 7. symmetry -----------------------------------------------------------
+  if (!pairings.empty()) {
+    report.symmetric = std::all_of(pairings.begin(), pairings.end(), [](const NetworkPairing& p) { return p.paired; });
+    FitNets nets{std::move(result.edge_curves), std::move(result.surfaces)};
+    report.symmetry_error_fit = symmetry_error(nets, network, options.symmetries, pairings);
+    report.symmetry_error = symmetrize_fit(nets, network, options.symmetries, pairings, diag);
+    result.edge_curves = std::move(nets.edges);
+    result.surfaces = std::move(nets.patches);
+    for (Index e = 0; e < nE; ++e) edge_dev[e] = edge_curve_deviation(result.edge_curves[e], edge_samples[e]);
+    parallel_for(nP, [&](Index p) {
+      measure(result.surfaces, p, neighbours[p], samples[p], enough, report.per_patch[p]);
+    });
+    watch.lap("symmetry");
+  }
 
   // --- 5. report ------------------------------------------------------------
   // Per patch: its edge curves, the part's creases under it (the surface's

@@ -82,6 +82,12 @@
 //      ones FitReport::rejected_splits). The refits of one call share their samples:
 //      a patch or edge a split did not touch is not projected again
 //      (sample_memo.h).
+//   7. Symmetry (FitOptions::symmetries, model units; symmetric_fit.h): a
+//      strip and its image under each symmetry share one span count, and
+//      after the fit each image's control net is the mapped net of its
+//      representative (an element that is its own image: its invariant
+//      mean), before the report, so the STEP is exactly symmetric; a layout
+//      that does not pair is left as fitted (FitReport::symmetric false).
 // Errors  InputError for an inconsistent network (a side whose mesh
 //         boundary does not carry its edge's polyline, an edge used by more
 //         than two patch sides, ...).
@@ -94,6 +100,7 @@
 #include "stripweave/surfacing/bspline.h"
 #include "stripweave/surfacing/fit_deviation.h"
 #include "stripweave/surfacing/patch_network.h"
+#include "stripweave/symmetry/symmetry.h"
 
 #include <memory>
 #include <string>
@@ -132,6 +139,11 @@ struct FitOptions {
   bool split_patches = true;
   int max_splits = 12;
   int split_rounds = 4;
+  // The part's accepted symmetries (model units) and how far a mapped layout
+  // vertex or edge midpoint may lie from its image (model units; 0: 1e-3 of
+  // the diagonal, the weave's default): step 7.
+  std::vector<Symmetry> symmetries;
+  double symmetry_tolerance = 0;
   DeviationOptions deviation;        // how the reported deviation is measured (fit_deviation.h)
   // Optional: the stages are reported to it and its cancel() stops the fit
   // (Cancelled is thrown at the next stage or patch, within about a patch's
@@ -217,6 +229,13 @@ struct FitReport {
   bool valid_shell = false, closed = false;
   double volume = 0;
   double shell_tolerance = 0;
+  // Step 7, with FitOptions::symmetries: whether every symmetry paired the
+  // layout (else why not), and the largest distance between an edge's or
+  // patch's mapped control points and its image's (model units) as fitted
+  // and as returned.
+  bool symmetric = false;
+  std::string symmetry_problem;
+  double symmetry_error_fit = 0, symmetry_error = 0;
   StageTimings timings;  // ms per step
   double time_s = 0;
 };
