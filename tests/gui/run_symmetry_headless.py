@@ -3,7 +3,8 @@ tests/gui/test_symmetry_headless.py under ``freecadcmd``.  A 40 x 20 x 8 slab wi
 off-centre boss and its mirror image in x (tests/models.py mirrored_box): detection, accepting
 the reflection (design.symmetry, one transaction, round-trips through design.json), a strip
 added with the reflection accepted comes with its mirror image, turning symmetry off clears
-design.symmetry and a strip is then added alone.  Writes JSON to $STRIPWEAVE_HEADLESS_RESULT
+design.symmetry and a strip is then added alone, a refused image keeps the design, and
+Auto weave mirrors every strip it adds.  Writes JSON to $STRIPWEAVE_HEADLESS_RESULT
 and exits with os._exit."""
 
 import json
@@ -87,6 +88,19 @@ try:
     except Exception as exc:
         result["refused"] = "{}: {}".format(type(exc).__name__, exc)
     result["refused_kept"] = design.DesignJson == before and strips_in(design) == 1
+
+    # Auto weave takes the accepted reflection: every strip it adds comes with its mirror image
+    import time
+    from freecad.stripweave_wb import weave_job
+    woven = design_model.create(sm, name="Woven")
+    doc.recompute()
+    design_model.set_symmetry(woven, mirror)
+    t0 = time.time()
+    weave_job.run(woven, max_strips=6)
+    derived = woven.Proxy.derived(woven)
+    loops = [s["points"] for s in derived.strips]
+    result["woven"] = {"strips": len(loops), "seconds": time.time() - t0,
+                       "mirror_error": loops_symmetry_error(loops, mirror[0]) if loops else None}
     result["ok"] = True
 except Exception:
     result["error"] = traceback.format_exc()
