@@ -10,6 +10,15 @@ from FreeCAD import Vector
 
 # --- generated models (FreeCAD Part shapes) ---------------------------------
 
+def mirrored_box(shift=0.0):
+    """A 40 x 20 x 8 slab centred at x = 0 with a 6 x 4 x 4 boss at x in [7, 13], y in [1, 5]
+    and its mirror image at x in [-13, -7] (moved by `shift` along y: no longer symmetric)."""
+    slab = Part.makeBox(40, 20, 8, Vector(-20, -10, 0))
+    right = Part.makeBox(6, 4, 4, Vector(7, 1, 8))
+    left = Part.makeBox(6, 4, 4, Vector(-13, 1 + shift, 8))
+    return slab.fuse([right, left]).removeSplitter()
+
+
 def box(size=10.0):
     return Part.makeBox(size, size, size)
 

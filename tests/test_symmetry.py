@@ -21,17 +21,10 @@ from stripweave._native import native
 from stripweave.design import Design
 from stripweave.symmetry import layout_symmetry_error, loops_symmetry_error, parse, resolve
 
+from models import mirrored_box
+
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 CLI = os.path.join(os.environ.get("STRIPWEAVE_BUILD", os.path.join(REPO, "build")), "stripweave")
-
-
-def mirrored_box(shift=0.0):
-    """A 40 x 20 x 8 slab centred at x = 0 with a 6 x 4 x 4 boss at x in [7, 13], y in [1, 5]
-    and its mirror image at x in [-13, -7] (moved by `shift` along y: no longer symmetric)."""
-    slab = Part.makeBox(40, 20, 8, Vector(-20, -10, 0))
-    right = Part.makeBox(6, 4, 4, Vector(7, 1, 8))
-    left = Part.makeBox(6, 4, 4, Vector(-13, 1 + shift, 8))
-    return slab.fuse([right, left]).removeSplitter()
 
 
 def one_boss_box():

@@ -6,6 +6,7 @@
                    design_symmetry=[...], tolerance=1e-3)
     parse("rotate:0,0,0,0,0,1,5")                 # a given symmetry as design.md's dict
     orbit(surface, syms, anchor, loop_points)     # a strip's images on the other parts
+    add_images(ds, index, syms, tolerance, own_tolerance)   # add strip index's images to a DesignSession
     layout_symmetry_error(layout, sym)            # how far the layout's vertex set is from mapping to itself
 
 Symmetries are design.md's dicts, in model units; the maps and their detection are native
@@ -148,6 +149,49 @@ def orbit(surface, symmetries, anchor, loop_points, tolerance, existing=()):
             continue
         kept.append((a, points))
     return kept[1:], own
+
+
+def image_tolerance(surface):
+    """How close an image must come to a loop to be that loop (model units): loops are chains
+    of graph nodes, so an image closer than two solver edges is that loop on this graph (a loop
+    that crosses the mirror orthogonally is its own image)."""
+    return 2.0 * mean_edge_length(surface)
+
+
+def add_images(ds, index, symmetries, tolerance, own_tolerance):
+    """Add the images of strip `index` of the DesignSession `ds` (orbit(): its first anchor
+    mapped and re-projected, its loop searched again there, all in one derivation); images
+    that coincide with the strip or a strip before it are left out. Used by the weave and by
+    the workbench's design tool, so a strip gets one set of images whoever adds it.
+    Returns the number of images added. On a refusal nothing of them is kept and strip
+    `index` is removed too (a design stays symmetric or does not take the strip): InputError
+    saying why, its reason one line; Cancelled (a loop search cut short) propagates after the
+    same clean-up. Refused: a loop its own image only to more than `own_tolerance` (a loop
+    through a g-edge beside the mirror), an image the design refuses, and an image whose loop,
+    searched afresh, strays more than `tolerance` from the image of the strip's loop (the
+    compatibility mask of the strips before it, an asymmetric solver mesh)."""
+    strip = ds.strip(index)
+    existing = [ds.strip(j)["points"] for j in range(index)]
+    anchor = ds.design.strips[index].anchors[0].to_list()
+    images, own = orbit(ds.surface, symmetries, anchor, strip["points"], tolerance, existing)
+    if own > own_tolerance:
+        ds.remove_strip(index)
+        raise native.InputError(f"the loop is its own symmetric image only to {own:.3g}")
+    if not images:
+        return 0
+    try:
+        ds.add_strips([[a] for a, _ in images], [{"image_of": index} for _ in images])
+    except native.InputError as e:
+        ds.remove_strip(index)
+        raise native.InputError(f"a symmetric image is refused by the design ({e})") from None
+    except native.Cancelled:
+        ds.remove_strip(index)
+        raise
+    for j, (_, expected) in enumerate(images):
+        if hausdorff(ds.strip(index + 1 + j)["points"], expected) > tolerance:
+            ds.remove_strips(index, 1 + len(images))
+            raise native.InputError("a symmetric image's loop is not the image of the strip's loop")
+    return len(images)
 
 
 def mean_edge_length(surface):

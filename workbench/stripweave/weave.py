@@ -304,10 +304,8 @@ class _Weaver:
         self.groups = {}            # index of an added strip -> 1 + its symmetric images, added after it
         self.image_tolerance = 0.0
         if options.symmetry:
-            from .symmetry import mean_edge_length
-            # Loops are chains of graph nodes: an image closer to a loop than two solver edges is
-            # that loop on this graph (a loop that crosses the mirror orthogonally is its own image).
-            self.image_tolerance = 2.0 * mean_edge_length(ds.surface)
+            from .symmetry import image_tolerance
+            self.image_tolerance = image_tolerance(ds.surface)
         # A loop that is its own image must be so within the symmetry's tolerance (design.md's 1e-3
         # of the diagonal): the symmetric solver mesh (symmetry.symmetric_surface) makes it exact.
         self.symmetry_tolerance = options.symmetry_tolerance * ds.surface.bbox_diagonal
@@ -391,48 +389,25 @@ class _Weaver:
             self.ds.remove_strips(index, count)
 
     def add_images(self, index):
-        """Add the images of strip `index` under the symmetries (symmetry.orbit): each its
-        anchor mapped and re-projected, its loop re-searched there, all in one derivation.
-        An image that coincides with the strip or with a loop already in the design is left
-        out. False if the design rejects an image (the strip is then removed too: a design
-        stays symmetric or does not take the strip)."""
-        from .symmetry import orbit
-        strip = self.ds.strip(index)
-        existing = [self.ds.strip(j)["points"] for j in range(index)]
-        anchor = self.ds.design.strips[index].anchors[0].to_list()
-        images, own = orbit(self.ds.surface, self.options.symmetry, anchor, strip["points"], self.image_tolerance,
-                            existing)
-        if own > self.symmetry_tolerance:
-            # Its own image, but only roughly (a loop through a g-edge beside the mirror): the
-            # design would not be symmetric; weaving looks elsewhere.
-            _say(self.options, f"  rejected: the loop is its own image only to {own:.3g}")
-            self.remove(index)
-            return False
-        if not images:
-            return True
-        self.spend("derive", WORK_DERIVE)
+        """Add the images of strip `index` under the symmetries (symmetry.add_images). False
+        if the design refuses an image (the strip is then removed too: a design stays
+        symmetric or does not take the strip)."""
+        from .symmetry import add_images
         try:
-            self.ds.add_strips([[a] for a, _ in images], [{"image_of": index} for _ in images])
+            count = add_images(self.ds, index, self.options.symmetry, self.image_tolerance, self.symmetry_tolerance)
         except native.InputError as e:
-            _say(self.options, f"  rejected: a symmetric image is refused by the design ({e})")
-            self.ds.remove_strip(index)
+            self.spend("derive", WORK_DERIVE)
+            _say(self.options, f"  rejected: {e}")
             return False
         except native.Cancelled:
             if not self.session.query_limited:
                 raise
+            self.spend("derive", WORK_DERIVE)
             _say(self.options, "  rejected: deriving a symmetric image ran past the query cap")
-            self.ds.remove_strip(index)
             return False
-        self.groups[index] = 1 + len(images)
-        # The image loops were searched afresh through the image anchors: one that strays from
-        # the image of the strip's loop (the compatibility mask of the strips before it, an
-        # asymmetric solver mesh) would leave the design asymmetric; then neither is kept.
-        from .symmetry import hausdorff
-        for j, (_, expected) in enumerate(images):
-            if hausdorff(self.ds.strip(index + 1 + j)["points"], expected) > self.image_tolerance:
-                _say(self.options, "  rejected: a symmetric image's loop is not the image of the strip's loop")
-                self.remove(index)
-                return False
+        if count:
+            self.spend("derive", WORK_DERIVE)
+            self.groups[index] = 1 + count
         return True
 
     def proposals(self, point, alternatives):

@@ -7,6 +7,7 @@ App side (works under ``freecadcmd`` too)::
     obj = design_model.create(surface_model)
     design_model.add_strip(obj, [(13, 0, 0, 0, 0, 1)])   # one undoable transaction
     design_model.edit_strip(obj, 0, [(13, 0, 0)])        # its anchors replaced, re-derived
+    design_model.set_symmetry(obj, design_model.detect_symmetry(obj))  # strips added later get their images
     obj.Shape                       # compound of the strips' loops (closed wires)
     obj.Proxy.derived(obj)          # snapshot: strips, stripe coordinates, singularities
 
@@ -419,6 +420,47 @@ def set_options(obj, **options):
     data = Design.from_dict(data).to_dict()   # validates the new values
     name = OPTION_NAMES[next(iter(changed))] if len(changed) == 1 else "Set design options"
     with transaction(obj.Document, name):
+        obj.DesignJson = json.dumps(data, indent=1)
+    return True
+
+
+def detect_symmetry(obj):
+    """The symmetries of the design's surface (stripweave.symmetry.detect: reflections and
+    rotations within design.md's tolerance, each with its RMS and max error in model units).
+    Builds the surface if needed (blocking)."""
+    import_stripweave()
+    from stripweave.symmetry import detect
+    from .design_session import SYMMETRY_TOLERANCE
+    sm = obj.Surface
+    if sm is None or not is_surface_model(sm):
+        raise ValueError("StripWeave: design '{}' has no SurfaceModel".format(obj.Label))
+    return detect(sm.Proxy.surface(sm), SYMMETRY_TOLERANCE)
+
+
+def symmetry(obj):
+    """The design's accepted symmetries (design.json's "symmetry"), [] when none."""
+    return list(obj.Proxy.design(obj).symmetry or [])
+
+
+def set_symmetry(obj, symmetries):
+    """Accept ``symmetries`` (design.md's dicts; [] turns symmetry off: the key is dropped,
+    so the design is as one made without it) in one transaction "Set symmetry", validated
+    first (InputError, the document unchanged).  Strips added later get their images; the
+    strips already there stay.  Does not recompute: the caller recomputes (the design is
+    derived again, on a solver mesh made symmetric under the reflections).  True if
+    anything changed."""
+    import_stripweave()
+    from stripweave.design import Design
+    data = json.loads(obj.DesignJson) if obj.DesignJson else new_design_dict(obj.Surface)
+    new = [dict(x) for x in symmetries] if symmetries else None
+    if data.get("symmetry") == new:
+        return False
+    if new is None:
+        data.pop("symmetry", None)
+    else:
+        data["symmetry"] = new
+    data = Design.from_dict(data).to_dict()   # validates the entries
+    with transaction(obj.Document, "Set symmetry" if new else "Turn symmetry off"):
         obj.DesignJson = json.dumps(data, indent=1)
     return True
 

@@ -8,6 +8,10 @@ proposal; then tabs (the panel fits the default combo view):
   with where it is, and the layout's defects (region_list.py);
 * Options: the compatibility band and the boundary mode of the design,
   applied to the running session (each change one undoable transaction);
+* Symmetry (paper §5.8): None, or Detect (the surface's reflections and
+  rotations, each with its max error in model units), a checkbox per
+  symmetry to accept it (stored in the design, one undoable transaction;
+  the tool draws the accepted ones and adds every strip with its images);
 
 and the status line and Close.  Widgets only: every action goes back to
 the tool (design_tool.py)."""
@@ -20,7 +24,8 @@ HELP = ("Hover: the best strip. Ctrl+wheel: others. Click: add it. Drag: give it
         "Drag a strip: move it. Shift+click, Enter: several anchors. Esc: close.")
 COLUMNS = ("#", "", "length", "width L / R", "area %")  # Remove second: visible in a narrow panel
 REMOVE_COLUMN = 1
-TABS = ("Strips", "Anchors", "Layout", "Options")
+TABS = ("Strips", "Anchors", "Layout", "Options", "Symmetry")
+SYMMETRY_MODES = ("None", "Detect")
 WHOLE_STRIP = "whole strip"   # the band's special value (0): the paper's compatibility (§6.2)
 BOUNDARY_MODES = ("aligned", "trimmed")
 
@@ -37,6 +42,26 @@ def _compact(widget, height):
     widget.setSizePolicy(QtGui.QSizePolicy.Ignored, QtGui.QSizePolicy.Preferred)
     widget.setMaximumHeight(height)
     return widget
+
+
+def _vec(v):
+    return "({})".format(", ".join(_fmt(c) for c in v))
+
+
+def symmetry_text(sym):
+    """One line: the kind, where, and the max error in model units."""
+    if sym.get("kind") == "reflection":
+        where = "reflection in the plane through {} normal {}".format(_vec(sym["point"]), _vec(sym["normal"]))
+    else:
+        where = "rotation of order {} about {} through {}".format(sym.get("order"), _vec(sym["axis"]),
+                                                                 _vec(sym["point"]))
+    error = sym.get("max_error")
+    return where + ("; max error {}".format(_fmt(error, 2)) if error is not None else "")
+
+
+def _same_symmetry(a, b):
+    keys = ("kind", "point", "normal", "axis", "order")
+    return all(a.get(k) == b.get(k) for k in keys)
 
 
 class DesignPanel:
@@ -66,7 +91,7 @@ class DesignPanel:
         # bar would scroll and hide some).
         self.tabs.setTabPosition(QtGui.QTabWidget.West)
         for name, page in zip(TABS, (self._strip_page(), self._anchor_box(), self._layout_page(),
-                                     self._options_page())):
+                                     self._options_page(), self._symmetry_page())):
             self.tabs.addTab(page, name)
         bar = self.tabs.tabBar()
         bar.setUsesScrollButtons(False)
@@ -140,6 +165,65 @@ class DesignPanel:
         self.boundary.currentIndexChanged.connect(self._boundary_changed)
         fl.addRow("Boundary", self.boundary)
         return page
+
+    def _symmetry_page(self):
+        page = QtGui.QWidget()
+        bl = QtGui.QVBoxLayout(page)
+        self.symmetry_mode = QtGui.QComboBox()
+        self.symmetry_mode.setObjectName("StripWeaveSymmetryMode")
+        self.symmetry_mode.addItems(list(SYMMETRY_MODES))
+        self.symmetry_mode.setToolTip("None: strips are added alone. Detect: find the part's mirror planes and "
+                                      "rotation axes; tick one to add every strip with its symmetric images")
+        self.symmetry_mode.activated.connect(self._symmetry_mode_chosen)
+        bl.addWidget(self.symmetry_mode)
+        self.symmetry_list = _compact(QtGui.QListWidget(), 140)
+        self.symmetry_list.setObjectName("StripWeaveSymmetryList")
+        self.symmetry_list.setWordWrap(True)
+        self.symmetry_list.itemChanged.connect(self._symmetry_ticked)
+        bl.addWidget(self.symmetry_list)
+        self.symmetries = []          # the symmetries listed, design.md's dicts
+        return page
+
+    def _symmetry_mode_chosen(self, index):
+        if index == 0:
+            self.symmetries = []   # nothing listed: the refresh that follows lists nothing
+            self.tool.set_symmetry([])
+            self.show_symmetries([], [])
+        else:
+            found = self.tool.detect_symmetry()
+            self.show_symmetries(found, self.tool.accepted_symmetry())
+
+    def _symmetry_ticked(self, _item):
+        # After the signal: accepting refreshes the panel, which rebuilds this list (the
+        # item that signals would be deleted inside its own signal).
+        ticked = [s for s, row in zip(self.symmetries, range(self.symmetry_list.count()))
+                  if self.symmetry_list.item(row).checkState() == QtCore.Qt.Checked]
+        QtCore.QTimer.singleShot(0, lambda: self.tool.set_symmetry(ticked))
+
+    def show_symmetries(self, found, accepted):
+        """List ``found`` and the ``accepted`` symmetries (those ticked; an accepted one not
+        found, e.g. from an imported design, is listed too)."""
+        listed = list(found) + [a for a in accepted if not any(_same_symmetry(a, f) for f in found)]
+        self.symmetries = listed
+        self.symmetry_list.blockSignals(True)
+        self.symmetry_list.clear()
+        for sym in listed:
+            item = QtGui.QListWidgetItem(symmetry_text(sym))
+            item.setFlags(item.flags() | QtCore.Qt.ItemIsUserCheckable)
+            item.setCheckState(QtCore.Qt.Checked if any(_same_symmetry(sym, a) for a in accepted)
+                               else QtCore.Qt.Unchecked)
+            self.symmetry_list.addItem(item)
+        if found is not None and not listed and self.symmetry_mode.currentIndex() == 1:
+            self.symmetry_list.addItem("no symmetry found within 1e-3 of the diagonal")
+        self.symmetry_list.blockSignals(False)
+        self.symmetry_mode.blockSignals(True)
+        if listed:   # an accepted symmetry (undo, an imported design) shows as Detect's
+            self.symmetry_mode.setCurrentIndex(1)
+        self.symmetry_mode.blockSignals(False)
+
+    def set_accepted_symmetry(self, accepted):
+        """The design's accepted symmetries changed (undo, import): tick what it holds."""
+        self.show_symmetries([s for s in self.symmetries], accepted)
 
     def _band_changed(self, value):
         self.tool.set_options(compatibility_band=float(value) if value > 0 else None)

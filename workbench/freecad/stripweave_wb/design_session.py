@@ -34,6 +34,8 @@ from .loop_match import loop_gap, same_loop_tolerance
 # together pin it (generated box and cylinder, 48 alternatives: one anchor
 # reproduced 35, one to three all 48).
 ANCHOR_SAMPLES = (0.25, 0.5, 0.75)
+# How far (diagonals) a symmetry may map the surface off itself and be accepted: design.md's 1e-3.
+SYMMETRY_TOLERANCE = 1e-3
 
 
 def anchor_sets(anchors):
@@ -56,14 +58,35 @@ def _native():
 
 def design_key(design, features):
     """What the derived state depends on besides the surface: the strips'
-    anchors, the options and the Features flag (JSON text, comparable)."""
-    return json.dumps([design.anchor_lists(), design.options, bool(features)], sort_keys=True)
+    anchors, the options, the Features flag and the accepted symmetries (a
+    reflection changes the solver mesh, solver_surface; every one the images an
+    added strip gets) (JSON text, comparable)."""
+    maps = [{k: s.get(k) for k in ("kind", "point", "normal", "axis", "order")} for s in design.symmetry or []]
+    return json.dumps([design.anchor_lists(), design.options, bool(features), maps], sort_keys=True)
 
 
 def loop_options_key(design):
     """The options the loop engine (elastica graph) is built with: changing
-    them needs a new LoopSession (a graph build), the rest only an update."""
-    return json.dumps(design.loop_options(), sort_keys=True)
+    them needs a new LoopSession (a graph build), the rest only an update.
+    The accepted reflections change the solver mesh, hence the graph."""
+    return json.dumps([design.loop_options(), reflections(design)], sort_keys=True)
+
+
+def reflections(design):
+    """The design's accepted reflections (point, normal), what its solver mesh depends on."""
+    return [[s["point"], s["normal"]] for s in design.symmetry or [] if s.get("kind") == "reflection"]
+
+
+def solver_surface(surface, design):
+    """The surface the design's strips are derived on: with reflections accepted, made
+    exactly symmetric under them (stripweave.symmetry.symmetric_surface: one half cut at the
+    plane and mirrored), so that a strip's image is the image of its loop on the graph too
+    (a tessellation symmetric only roughly put a mirrored loop 0.3 off on a 46 mm slab,
+    past design.md's 1e-3 of the diagonal); the surface itself otherwise."""
+    if not reflections(design):
+        return surface
+    from stripweave.symmetry import symmetric_surface
+    return symmetric_surface(surface, design.symmetry)
 
 
 # The options the native DesignState is made with (its constructor and its
@@ -307,7 +330,8 @@ class SessionCache:
                 if self.session is not None and self.surface is surface and self._loop_key == loop_key:
                     reuse = self.session.loop_session  # Features or compatibility changed: keep the graph
                 # Built empty, then updated: a failing strip must not lose the session.
-                self.session = DesignSession(surface, Design(options=design.options), loop_session=reuse,
+                self.session = DesignSession(solver_surface(surface, design), Design(options=design.options),
+                                             loop_session=reuse,
                                              features=bool(features))
                 self.surface = surface
                 self._loop_key = loop_key
@@ -339,8 +363,25 @@ class SessionCache:
             self._require()
             self._mask_key = None
             self.session.add_strip(anchors)
-            self.applied_key = design_key(self.session.design, self._features)
+            try:
+                self._add_images(len(self.session.design.strips) - 1)
+            finally:   # added with its images, or neither: the session reflects its design
+                self.applied_key = design_key(self.session.design, self._features)
             return self.session.design.to_dict(), self._snapshot(None)
+
+    def _add_images(self, index):
+        """The design's accepted symmetries (design.json's "symmetry", paper §5.8): strip
+        ``index`` gets its images too (stripweave.symmetry.add_images, as the weave does);
+        a refused image removes the strip again and raises InputError saying why."""
+        symmetries = self.session.design.symmetry
+        if not symmetries:
+            return 0
+        from stripweave.symmetry import add_images, image_tolerance
+        surface = self.session.surface
+        own = SYMMETRY_TOLERANCE * surface.bbox_diagonal
+        # The graph's resolution: a loop its own image within it needs no copy (the GUI's
+        # solver mesh is not made symmetric, so the weave's tighter test would refuse it).
+        return add_images(self.session, index, symmetries, image_tolerance(surface), max(own, image_tolerance(surface)))
 
     def edit_strip(self, index, anchors):
         """Replace strip ``index``'s anchors and re-derive from it (strip
@@ -370,15 +411,20 @@ class SessionCache:
         ``options`` (a WeaveOptions; its ``cancel`` event stops it) and adopt
         the result.  The weave runs on a second DesignSession over the same
         loop engine, so a cancelled or failed weave leaves this cache as it
-        was.  ``on_session(ds)`` gets the weave's DesignSession (to watch its
+        was.  Without ``options.symmetry`` the design's accepted symmetries are used.  ``on_session(ds)`` gets the weave's DesignSession (to watch its
         strips).  Returns (WeaveResult, design dict, snapshot)."""
         from stripweave.strips import DesignSession
         from stripweave.weave import auto_weave
         self.interrupt()   # a hover query gives way
         with self.lock:
             self._require()
-            ds = DesignSession(self.surface, self.session.design.copy(), loop_session=self.session.loop_session,
+            ds = DesignSession(self.session.surface, self.session.design.copy(), loop_session=self.session.loop_session,
                                features=self._features)
+            if not options.symmetry and ds.design.symmetry:
+                # The accepted symmetries (the design tool's Symmetry tab): every strip the weave
+                # adds comes with its images, as a click's strip does.
+                import dataclasses
+                options = dataclasses.replace(options, symmetry=tuple(ds.design.symmetry))
             self._mask_key = None
             if on_session is not None:
                 on_session(ds)

@@ -36,7 +36,12 @@
   it lists the regions by colour with where they are and the layout's
   defects (computed on the worker after every change), and sets the
   compatibility band and the boundary mode, which the running session
-  takes (re-derived in the background); Close or Esc ends the tool.
+  takes (re-derived in the background); Close or Esc ends the tool;
+* symmetry (paper §5.8): the Symmetry tab detects the part's symmetries
+  and accepts some (stored in the design, undoable); the accepted ones are
+  drawn (symmetry_overlay.py: a plane, an axis) and every strip added gets
+  its images (SessionCache.add_strip, stripweave.symmetry.add_images); a
+  refused image leaves the design as it was, the panel says why.
 
 Queries run on a :class:`QueryWorker` thread; a newer query interrupts an
 older one, and results computed for an older cursor position or an older
@@ -69,6 +74,7 @@ from . import derive_async, design_model, messages
 from .design_overlay import PreviewOverlay
 from .design_panel import DesignPanel
 from .query_worker import QueryWorker
+from .symmetry_overlay import SymmetryOverlay
 from .view_input import ViewCapture, design_objects, pick_on, set_cursor
 
 POLL_MS = 30
@@ -171,6 +177,7 @@ class DesignTool:
         self.worker = None
         self.closed = False
         self.preview = PreviewOverlay()
+        self.symmetry_overlay = SymmetryOverlay()
         self.panel = DesignPanel(self, obj.Label)
         self.point = None             # the surface point the proposals pass
         self.proposals = []           # loops through it: [best] or the alternatives
@@ -211,6 +218,7 @@ class DesignTool:
             (coin.SoLocation2Event, self._on_move), (coin.SoMouseButtonEvent, self._on_button),
             (coin.SoKeyboardEvent, self._on_key)), self._filter)
         self._filtered = self._capture.widgets
+        self._capture.scene.addChild(self.symmetry_overlay.root)
         Gui.Control.showDialog(self.panel)
         self._refresh_panel(obj)
         self.timer.start()
@@ -228,6 +236,7 @@ class DesignTool:
             self.worker.stop()
         self._set_cursor(None)
         if self._capture is not None:
+            self._capture.scene.removeChild(self.symmetry_overlay.root)
             self._capture.release()
             self._capture = None
         self._filtered = []
@@ -468,6 +477,56 @@ class DesignTool:
         self.panel.refresh(obj.Proxy.summary(obj), design.anchor_lists() if design is not None else [])
         if design is not None:
             self.panel.set_options(design.options)
+            self.panel.set_accepted_symmetry(design.symmetry or [])
+            self.symmetry_overlay.set(design.symmetry or [], _bounding_box(obj))
+
+    # -- symmetry (the panel's Symmetry tab) ---------------------------------------------
+    def detect_symmetry(self):
+        """The part's symmetries (design_model.detect_symmetry), [] with the reason in the
+        status line when detection fails."""
+        obj = self.obj()
+        if obj is None:
+            return []
+        QtGui.QApplication.setOverrideCursor(QtCore.Qt.WaitCursor)
+        try:
+            found = design_model.detect_symmetry(obj)
+        except Exception as exc:
+            self.panel.set_status("symmetry not detected: {}".format(exc), True)
+            return []
+        finally:
+            QtGui.QApplication.restoreOverrideCursor()
+        self.panel.set_status("{} symmetr{} found: tick one to add every strip with its images".format(
+            len(found), "y" if len(found) == 1 else "ies") if found else "no symmetry found")
+        return found
+
+    def accepted_symmetry(self):
+        obj = self.obj()
+        return design_model.symmetry(obj) if obj is not None else []
+
+    def set_symmetry(self, symmetries):
+        """Accept ``symmetries`` ([] turns symmetry off): one undoable transaction; the
+        drawing follows."""
+        obj = self.obj()
+        if obj is None:
+            return False
+        if self.add_serial is not None:   # an addition in flight was made under the old ones
+            self.panel.set_status("wait for the strip being added, then set the symmetry", True)
+            self._refresh_panel(obj)
+            return False
+        try:
+            changed = design_model.set_symmetry(obj, symmetries)
+        except Exception as exc:
+            self.panel.set_status("symmetry not set: {}".format(exc), True)
+            self._refresh_panel(obj)
+            return False
+        self._seen_json = obj.DesignJson
+        self._refresh_panel(obj)
+        if changed:   # derived again: the solver mesh is made symmetric under the reflections
+            self.proposals = []
+            self.preview.clear()
+            self.panel.set_status("symmetry {}: deriving the design ...".format("accepted" if symmetries else "off"))
+            derive_async.request(obj, callback=self._on_derived, then_recompute=True)
+        return changed
 
     def _request_regions(self):
         if self.worker is not None and not self.closed:
@@ -818,3 +877,18 @@ def _polyline_gap(points, point):
     length2 = np.maximum((ab * ab).sum(axis=1), 1e-300)
     t = np.clip(((p - a) * ab).sum(axis=1) / length2, 0.0, 1.0)
     return float(np.linalg.norm(a + t[:, None] * ab - p, axis=1).min())
+
+
+def _bounding_box(obj):
+    """The part's bounding box (xmin, ymin, zmin, xmax, ymax, zmax): its source shape's, else
+    the derived solver mesh's; None when neither is there (nothing is drawn)."""
+    sm = obj.Surface
+    source = getattr(sm, "Source", None) if sm is not None else None
+    shape = getattr(source, "Shape", None)
+    if shape is not None and not shape.isNull():
+        b = shape.BoundBox
+        return (b.XMin, b.YMin, b.ZMin, b.XMax, b.YMax, b.ZMax)
+    derived = obj.Proxy.derived(obj)
+    if derived is not None and len(derived.vertices):
+        return tuple(derived.vertices.min(axis=0)) + tuple(derived.vertices.max(axis=0))
+    return None
