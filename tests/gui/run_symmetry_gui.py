@@ -2,7 +2,7 @@
 (started by tests/gui/test_symmetry_gui.py).  Real input only (xdotool through the X server):
 
 A 40 x 20 x 8 slab with an off-centre boss and its mirror image in x (tests/models.py
-mirrored_box): Design strips; the Symmetry tab (a click on the tab), Detect (a click on the
+mirrored_box): Design strips; the Options tab's symmetry (a click on the tab), Detect (a click on the
 mode box, Down, Return), the detected plane x = 0 ticked (a click on its check box); the plane
 is drawn; a click on the part adds a strip and its mirror image; a screenshot of the view
 (STRIPWEAVE_GUI_SCREENSHOT); None turns symmetry off: design.symmetry cleared, nothing drawn.
@@ -84,9 +84,9 @@ def scenario():
     diagonal = part.Shape.BoundBox.DiagonalLength
 
     bar = panel.tabs.tabBar()
-    click_tab(bar, design_panel.TABS.index("Symmetry"))
+    click_tab(bar, design_panel.TABS.index("Options"))
     Gui.getMainWindow().grab().save(os.path.join(WORKDIR, "window_tab.png"))
-    check("Symmetry tab shown", panel.tabs.currentIndex() == design_panel.TABS.index("Symmetry"),
+    check("Options tab (symmetry) shown", panel.tabs.currentIndex() == design_panel.TABS.index("Options"),
           panel.tabs.currentIndex())
     h.click_widget(panel.symmetry_mode)
     h.key("Down")

@@ -7,11 +7,13 @@ proposal; then tabs (the panel fits the default combo view):
 * Layout: the regions by colour (red, crease, orange, yellow; §4.2), each
   with where it is, and the layout's defects (region_list.py);
 * Options: the compatibility band and the boundary mode of the design,
-  applied to the running session (each change one undoable transaction);
-* Symmetry (paper §5.8): None, or Detect (the surface's reflections and
-  rotations, each with its max error in model units), a checkbox per
+  applied to the running session (each change one undoable transaction),
+  and its symmetry (paper §5.8): None, or Detect (the surface's reflections
+  and rotations, each with its max error in model units), a checkbox per
   symmetry to accept it (stored in the design, one undoable transaction;
-  the tool draws the accepted ones and adds every strip with its images);
+  the tool draws the accepted ones and adds every strip with its images).
+  On the Options tab, not a tab of its own: five side tabs are taller than
+  the default combo view, which would then scroll;
 
 and the status line and Close.  Widgets only: every action goes back to
 the tool (design_tool.py)."""
@@ -24,7 +26,7 @@ HELP = ("Hover: the best strip. Ctrl+wheel: others. Click: add it. Drag: give it
         "Drag a strip: move it. Shift+click, Enter: several anchors. Esc: close.")
 COLUMNS = ("#", "", "length", "width L / R", "area %")  # Remove second: visible in a narrow panel
 REMOVE_COLUMN = 1
-TABS = ("Strips", "Anchors", "Layout", "Options", "Symmetry")
+TABS = ("Strips", "Anchors", "Layout", "Options")
 SYMMETRY_MODES = ("None", "Detect")
 WHOLE_STRIP = "whole strip"   # the band's special value (0): the paper's compatibility (§6.2)
 BOUNDARY_MODES = ("aligned", "trimmed")
@@ -91,7 +93,7 @@ class DesignPanel:
         # bar would scroll and hide some).
         self.tabs.setTabPosition(QtGui.QTabWidget.West)
         for name, page in zip(TABS, (self._strip_page(), self._anchor_box(), self._layout_page(),
-                                     self._options_page(), self._symmetry_page())):
+                                     self._options_page())):
             self.tabs.addTab(page, name)
         bar = self.tabs.tabBar()
         bar.setUsesScrollButtons(False)
@@ -164,25 +166,23 @@ class DesignPanel:
         self.boundary.setToolTip("Dual curves at open boundaries: aligned (run along them) or trimmed (end on them)")
         self.boundary.currentIndexChanged.connect(self._boundary_changed)
         fl.addRow("Boundary", self.boundary)
+        self._symmetry_rows(fl)
         return page
 
-    def _symmetry_page(self):
-        page = QtGui.QWidget()
-        bl = QtGui.QVBoxLayout(page)
+    def _symmetry_rows(self, fl):
         self.symmetry_mode = QtGui.QComboBox()
         self.symmetry_mode.setObjectName("StripWeaveSymmetryMode")
         self.symmetry_mode.addItems(list(SYMMETRY_MODES))
         self.symmetry_mode.setToolTip("None: strips are added alone. Detect: find the part's mirror planes and "
                                       "rotation axes; tick one to add every strip with its symmetric images")
         self.symmetry_mode.activated.connect(self._symmetry_mode_chosen)
-        bl.addWidget(self.symmetry_mode)
-        self.symmetry_list = _compact(QtGui.QListWidget(), 140)
+        fl.addRow("Symmetry", self.symmetry_mode)
+        self.symmetry_list = _compact(QtGui.QListWidget(), 90)
         self.symmetry_list.setObjectName("StripWeaveSymmetryList")
         self.symmetry_list.setWordWrap(True)
         self.symmetry_list.itemChanged.connect(self._symmetry_ticked)
-        bl.addWidget(self.symmetry_list)
+        fl.addRow(self.symmetry_list)
         self.symmetries = []          # the symmetries listed, design.md's dicts
-        return page
 
     def _symmetry_mode_chosen(self, index):
         if index == 0:
