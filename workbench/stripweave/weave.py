@@ -878,35 +878,43 @@ def _coverage_pair(w, ds, options, a, candidate, elapsed):
     return None
 
 
+def _largest(ds, colour, limit):
+    """The design's regions of one colour (weave_assessment's, with seeds), largest first; at
+    most `limit` (None: all)."""
+    a = native.weave_assessment(ds.native, [], 1)
+    regions = sorted((r for r in a["regions"] if r["colour"] == colour), key=lambda r: -r["area"])
+    return regions if limit is None else regions[:limit]
+
+
 def red_regions(ds, limit=5):
     """The red regions of the design, largest first (at most `limit`): where each is (its
     centre, model units: where a strip by hand would start), its area, genus and boundary
     loops (a disc has genus 0 and one boundary loop), for report.json's "red_regions" (limit
     None: all of them)."""
-    a = native.weave_assessment(ds.native, [], 1)
-    red = sorted((r for r in a["regions"] if r["colour"] == "red"), key=lambda r: -r["area"])
     return [{"position": [float(x) for x in r["seeds"][0]] if r["seeds"] else None, "area": float(r["area"]),
              "genus": int(r["genus"]), "boundaries": int(2 - 2 * r["genus"] - r["euler_characteristic"])}
-            for r in (red if limit is None else red[:limit])]
+            for r in _largest(ds, "red", limit)]
 
 
 def crease_regions(ds, limit=5):
     """The crease regions of the design (they keep a valid layout from following the part's
     creases, issue 17), largest first (at most `limit`): where a strip by hand would go (the
-    region's crease seed: on the crease between its two nodes, else a point inside), its area
-    and what is wrong (crease_structure.h's problem, e.g. "two crease junctions"), for
-    report.json's "crease_regions"."""
-    a = native.weave_assessment(ds.native, [], 1)
-    crease = sorted((r for r in a["regions"] if r["colour"] == "crease"), key=lambda r: -r["area"])
+    region's crease seed: where a loop across the crease parts what the region holds, else a
+    point inside), its area and what is wrong (crease_structure.h's problem, e.g. "two crease
+    nodes"), for report.json's "crease_regions"."""
     def position(r):
         p = r.get("crease_seed") or (r["seeds"][0] if r["seeds"] else None)
         return None if p is None else [float(x) for x in list(p)[:3]]
     return [{"position": position(r), "area": float(r["area"]), "problem": str(r.get("crease_problem", ""))}
-            for r in crease[:limit]]
+            for r in _largest(ds, "crease", limit)]
+
+
+def _point(p):
+    return "(" + ", ".join(f"{x:.4g}" for x in p) + ")"
 
 
 def _at(position):
-    return "" if position is None else " at (" + ", ".join(f"{x:.4g}" for x in position) + ")"
+    return "" if position is None else " at " + _point(position)
 
 
 def why_crease(regions, total, stopped, budget):
@@ -915,8 +923,8 @@ def why_crease(regions, total, stopped, budget):
     what to try (a strip by hand across the crease there separates what the region holds)."""
     shown = "; ".join(f"a region{_at(r['position'])} ({r['problem'] or 'crease'})" for r in regions[:3])
     first = next((r["position"] for r in regions if r["position"] is not None), None)
-    by_hand = ("adding a strip by hand through" + _at(first).replace(" at", "", 1) if first else
-               "adding a strip by hand through the crease region") + ", across the crease"
+    by_hand = "adding a strip by hand through " + (_point(first) if first else "the crease region") + \
+        ", across the crease"
     return (f"{total} crease region{'' if total == 1 else 's'} remain{'s' if total == 1 else ''}: "
             f"{shown}{'; ...' if total > 3 else ''}; weaving stopped: {stopped}; "
             f"try --budget {2 * budget:g}, or {by_hand}")
@@ -926,7 +934,7 @@ def why_red(red, total, stopped, max_strips, budget):
     """One line for people: which red regions remain, where, why each is no disc, why weaving
     stopped, and what to try."""
     def where(r):
-        at = "" if r["position"] is None else " at (" + ", ".join(f"{x:.4g}" for x in r["position"]) + ")"
+        at = _at(r["position"])
         loops = f"{r['boundaries']} boundary loop{'' if r['boundaries'] == 1 else 's'}"
         return f"a region{at} (genus {r['genus']}, {loops}: not a disc)"
     shown = "; ".join(where(r) for r in red[:3]) + ("; ..." if total > 3 else "")
@@ -934,8 +942,8 @@ def why_red(red, total, stopped, max_strips, budget):
     if stopped == "max strips":
         tries.insert(0, f"--max-strips {max_strips + 20}")
     first = next((r["position"] for r in red if r["position"] is not None), None)
-    by_hand = "adding a strip through " + ("(" + ", ".join(f"{x:.4g}" for x in first) + ")" if first else
-                                         "the red region") + " by hand (a loop that cuts it)"
+    by_hand = "adding a strip through " + (_point(first) if first else "the red region") + \
+        " by hand (a loop that cuts it)"
     return (f"{total} red region{'' if total == 1 else 's'} remain{'s' if total == 1 else ''}: {shown}; "
             f"weaving stopped: {stopped}; try {', '.join(tries)}, or {by_hand}")
 

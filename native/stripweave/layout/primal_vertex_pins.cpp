@@ -45,16 +45,6 @@ Index nearest_wedge(const PrimalContext& ctx, const Vec3& p, const Allowed& allo
   return best;
 }
 
-// Refined vertices on a crease the layout follows.
-std::vector<std::uint8_t> crease_vertices(const PrimalContext& ctx) {
-  const LoopArrangement& A = ctx.arrangement;
-  std::vector<std::uint8_t> on(A.mesh.num_vertices(), 0);
-  for (Index e = 0; e < A.topology.num_edges(); ++e)
-    if (ctx.edge_feature[e])
-      for (Index v : A.topology.edges[e]) on[v] = 1;
-  return on;
-}
-
 }  // namespace
 
 void pin_primal_vertices(const PrimalContext& ctx, const std::vector<Vec3>& pins, std::vector<PrimalVertex>& vertices,
@@ -86,11 +76,7 @@ void pin_primal_vertices(const PrimalContext& ctx, const std::vector<Vec3>& pins
   }
   if (!moved) return;
   // The moved vertices' distance from the loops (their region's inradius stays).
-  std::vector<Index> on_loops;
-  for (Index w = 0; w < ctx.wedges.count(); ++w)
-    if (ctx.vertex_on_loop[ctx.wedges.vertex[w]]) on_loops.push_back(w);
-  const std::vector<double> clearance = ctx.shortest_paths(
-      on_loops, [&](Index e) { return ctx.edge_length[e]; }, [](Index) { return false; }, nullptr);
+  const std::vector<double> clearance = loop_clearance(ctx);
   for (size_t r = 0; r < vertices.size(); ++r)
     if (vertices[r].placement == VertexPlacement::Pinned) vertices[r].clearance = clearance[vertex_wedge[r]];
 }

@@ -39,6 +39,23 @@ Index wedge_at(const PrimalContext& ctx, Index v, Index r) {
 
 }  // namespace
 
+std::vector<double> loop_clearance(const PrimalContext& ctx) {
+  std::vector<Index> on_loops;
+  for (Index w = 0; w < ctx.wedges.count(); ++w)
+    if (ctx.vertex_on_loop[ctx.wedges.vertex[w]]) on_loops.push_back(w);
+  return ctx.shortest_paths(
+      on_loops, [&](Index e) { return ctx.edge_length[e]; }, [](Index) { return false; }, nullptr);
+}
+
+std::vector<std::uint8_t> crease_vertices(const PrimalContext& ctx) {
+  const LoopArrangement& A = ctx.arrangement;
+  std::vector<std::uint8_t> on(A.mesh.num_vertices(), 0);
+  for (Index e = 0; e < A.topology.num_edges(); ++e)
+    if (ctx.edge_feature[e])
+      for (Index v : A.topology.edges[e]) on[v] = 1;
+  return on;
+}
+
 std::vector<PrimalVertex> place_primal_vertices(const PrimalContext& ctx, const std::vector<Singularity>& singularities,
                                                 std::vector<Index>& vertex_wedge) {
   const LoopArrangement& A = ctx.arrangement;
@@ -46,12 +63,7 @@ std::vector<PrimalVertex> place_primal_vertices(const PrimalContext& ctx, const 
   const Index nw = ctx.wedges.count();
   const std::vector<double> strength = corner_strength(ctx.surface, ctx.surface_crease);
 
-  // Distance from the loops, within each region.
-  std::vector<Index> on_loops;
-  for (Index w = 0; w < nw; ++w)
-    if (ctx.vertex_on_loop[ctx.wedges.vertex[w]]) on_loops.push_back(w);
-  const std::vector<double> clearance = ctx.shortest_paths(
-      on_loops, [&](Index e) { return ctx.edge_length[e]; }, [](Index) { return false; }, nullptr);
+  const std::vector<double> clearance = loop_clearance(ctx);
 
   // Where the region's sides balance (primal_vertex_balance.cpp): the
   // centre, and the point of a crease or the boundary a vertex goes to.
@@ -65,11 +77,7 @@ std::vector<PrimalVertex> place_primal_vertices(const PrimalContext& ctx, const 
   std::vector<std::array<double, kRules>> score(nr, {lowest, lowest, lowest, lowest, lowest});
   // Per region the largest clearance, and the largest on a crease and on the boundary.
   std::vector<double> inradius(nr, 0.0), crease_clearance(nr, -1.0), boundary_clearance(nr, -1.0);
-  // Refined vertices on a crease.
-  std::vector<std::uint8_t> on_feature(A.mesh.num_vertices(), 0);
-  for (Index e = 0; e < A.topology.num_edges(); ++e)
-    if (ctx.edge_feature[e])
-      for (Index v : A.topology.edges[e]) on_feature[v] = 1;
+  const std::vector<std::uint8_t> on_feature = crease_vertices(ctx);
   for (Index w = 0; w < nw; ++w) {
     const Index v = ctx.wedges.vertex[w], r = ctx.wedge_region[w];
     if (ctx.vertex_on_loop[v]) continue;

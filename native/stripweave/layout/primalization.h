@@ -61,6 +61,12 @@ struct PrimalContext {
   std::pair<Index, Index> arc_side_wedges(Index k, size_t i) const;
 };
 
+// Per wedge, its distance from the loops within its region (normalized
+// units): how centred a vertex there sits (primal_vertices.cpp).
+std::vector<double> loop_clearance(const PrimalContext& ctx);
+// Per refined vertex, 1 if it lies on a crease the layout follows.
+std::vector<std::uint8_t> crease_vertices(const PrimalContext& ctx);
+
 // Per wedge, the sum over its region's sides (a side per arc side facing
 // the region) of the squared distance to that side within the region,
 // normalized units squared: least at the region's balanced centre
