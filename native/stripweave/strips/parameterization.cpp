@@ -58,6 +58,9 @@ constexpr double kRegularization = 1e-12;
 // Constraint residuals above this (normalized units: the model's diagonal
 // is 1) mean the solve failed; the contract promises 1e-9.
 constexpr double kResidualTolerance = 1e-9;
+// The membrane weight across the edges of a zero-area triangle (see the
+// energy below): a millionth of an equilateral triangle's cotangent weight.
+constexpr double kDegenerateMembrane = 1e-6;
 
 int mod4(int r) { return ((r % 4) + 4) % 4; }
 
@@ -377,7 +380,24 @@ Parameterization parameterize(const Surface& surface, const CrossField& field, c
     const Tri& tri = mesh.triangles[t];
     const Vec3 area2 = triangle_normal_area2(mesh, t);
     const double a2 = area2.norm();
-    if (!(a2 > 1e-24)) continue;  // degenerate: no gradient to fit
+    if (!(a2 > 1e-24)) {
+      // A zero-area triangle (coincident or collinear corners, as B-rep
+      // tessellations leave at poles and closed gaps) has no gradient to
+      // fit, yet its corners are unknowns. Where the cut isolates a wedge
+      // whose triangles are all such, nothing else fixes its value and the
+      // factorization meets a zero pivot. A faint membrane across the
+      // triangle's edges gives such a wedge the mean of its neighbours (for
+      // coincident corners, the value of its twin: the limit of a shrinking
+      // triangle) and moves nothing where triangles have area.
+      for (int i = 0; i < 3; ++i)
+        for (int axis = 0; axis < 2; ++axis) {
+          const Index x = var(cut.wedge_of(t, i), axis), y = var(cut.wedge_of(t, (i + 1) % 3), axis);
+          if (x >= 0) h.emplace_back(x, x, kDegenerateMembrane);
+          if (y >= 0) h.emplace_back(y, y, kDegenerateMembrane);
+          if (x >= 0 && y >= 0 && x != y) h.emplace_back(std::max(x, y), std::min(x, y), -kDegenerateMembrane);
+        }
+      continue;
+    }
     std::array<Vec3, 3> g;        // 2A grad(phi_i)
     for (int i = 0; i < 3; ++i)
       g[i] = n[t].cross(mesh.positions[tri[(i + 2) % 3]] - mesh.positions[tri[(i + 1) % 3]]);
