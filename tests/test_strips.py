@@ -411,6 +411,42 @@ def test_a_wider_compatibility_angle_refuses_more_directions(torus_meridian, tor
                               "options": {"compatibility_angle_deg": bad}})
 
 
+def test_edges_crossing_a_loop_shallowly_are_disabled_even_where_no_node_is_near_it(torus_surface):
+    """A g-edge spans a few rings, so it can cross a loop between its two ends with neither
+    end near the loop: where the strip is narrower than an edge (a band, or a singularity
+    beside the loop), the node rule never sees it, and a loop through it meets the strip's
+    loop running the same way; the parameterization then refuses the design (corpus: 9
+    models ended red after dozens of such refusals). Such edges are in the mask; edges
+    crossing at near right angles are not. Checked against the meridian's own geometry: the
+    circle of radius 3 about (10, 0, 0) in the plane y = 0."""
+    ds = DesignSession(torus_surface, Design([MERIDIAN], options={"compatibility_band": 1e-3}))
+    session = ds.loop_session.native
+    mask = set(ds.native.disabled_nodes())
+    v = torus_surface.vertices
+    # The loop runs on mesh paths, off the plane by up to its own |y|: ends nearer the plane
+    # than that may lie on either side of it.
+    margin = np.abs(np.asarray(ds.native.strip(0)["points"])[:, 1]).max()
+    assert margin < 0.2
+    shallow, steep, steep_disabled = [], 0, 0
+    for n in range(session.graph_stats()["gprime_nodes"]):
+        a, b = session.node_vertices(n)
+        pa, pb = v[a], v[b]
+        if not (pa[0] > 5 and pb[0] > 5 and pa[1] * pb[1] < 0 and min(abs(pa[1]), abs(pb[1])) > margin):
+            continue
+        d = np.subtract(session.node_tangent(n), session.node_tangent(session.reverse_node(n)))
+        q = (pa + pb) / 2
+        t = np.cross([0.0, 1.0, 0.0], [q[0] - 10.0, 0.0, q[2]])
+        cos = abs(d @ t) / (np.linalg.norm(d) * np.linalg.norm(t))
+        if cos > math.cos(math.radians(40)):
+            shallow.append(n)
+        elif cos < math.cos(math.radians(60)):
+            steep += 1
+            steep_disabled += n in mask
+    assert len(shallow) > 50                       # the case exists on this mesh
+    assert all(n in mask for n in shallow)
+    assert steep > 200 and steep_disabled <= 0.1 * steep
+
+
 @pytest.mark.parametrize("failing", [1, 2])
 def test_a_failing_solve_leaves_every_kept_strip_derived(failing):
     """A solve can fail numerically (bug32596_abc_0_13: a zero pivot in the KKT factorization,

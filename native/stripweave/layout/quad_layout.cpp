@@ -101,8 +101,12 @@ void PrimalContext::grow_shortest_paths(const std::vector<Index>& sources, const
     for (Index k = wedge_neighbours.offsets[w]; k < wedge_neighbours.offsets[w + 1]; ++k) {
       const Index x = wedge_neighbours.indices[k];
       const double nd = d + cost(wedge_neighbour_edge.indices[k]);
-      // Ties go to the smaller wedge, so that results do not depend on heap order.
-      if (nd < dist[x] || (pred && nd == dist[x] && w < (*pred)[x] && (*pred)[x] != kInvalid)) {
+      // Ties go to the smaller wedge, so that results do not depend on heap order;
+      // only across an edge of positive cost (nd > d): over a zero-length edge (two
+      // coincident points, as B-rep tessellations leave) two wedges at one distance
+      // would each take the other as predecessor, and tracing a path back would
+      // never end (it grew until the memory guard stopped it).
+      if (nd < dist[x] || (pred && nd == dist[x] && nd > d && w < (*pred)[x] && (*pred)[x] != kInvalid)) {
         if (blocked(x)) continue;
         const bool improved = nd < dist[x];
         reach(x, nd);

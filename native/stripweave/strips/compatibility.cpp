@@ -1,13 +1,74 @@
 // Strip compatibility (see compatibility.h).
 #include "stripweave/strips/compatibility.h"
 
+#include "stripweave/strips/cut_graph.h"
+
 #include <algorithm>
 #include <cmath>
 
 namespace stripweave {
 
+namespace {
+
+// The g-edges that cross the loop between their two ends at an angle within
+// the limit (see the header). A g-edge joins vertices at most k rings apart,
+// so one that crosses the loop has both ends within k rings of the
+// triangles the loop runs through: a breadth-first search over those rings
+// gives every such vertex the loop segment it was reached from, and its side
+// of the loop there (the sign of its offset along normal x direction). An
+// edge whose ends lie on opposite sides crosses the loop; its direction
+// there is taken as the mean of its two end tangents, the loop's as that of
+// the two segments.
+void disable_shallow_crossings(const Surface& surface, const ElasticaGraph& g, const LoopPath& loop,
+                               double cos_limit, std::vector<Index>& nodes) {
+  const TriangleMesh& mesh = surface.mesh;
+  const MeshTopology& topo = surface.topology;
+  const Index nv = mesh.num_vertices();
+  std::vector<Index> origin(nv, kInvalid);  // the loop segment a vertex was reached from
+  std::vector<Index> frontier, next;
+  for (Index k = 0; k < static_cast<Index>(loop.segments.size()); ++k)
+    for (Index v : mesh.triangles[loop.segments[k].triangle])
+      if (origin[v] == kInvalid) origin[v] = k, frontier.push_back(v);
+  std::vector<Index> reached = frontier;
+  for (int ring = 0; ring < g.params.k && !frontier.empty(); ++ring) {
+    next.clear();
+    for (Index v : frontier)
+      for (auto it = topo.vertex_triangles.begin(v); it != topo.vertex_triangles.end(v); ++it)
+        for (Index w : mesh.triangles[*it])
+          if (origin[w] == kInvalid) origin[w] = origin[v], next.push_back(w);
+    reached.insert(reached.end(), next.begin(), next.end());
+    frontier.swap(next);
+  }
+  auto side = [&](Index v) {
+    const PathSegment& sg = loop.segments[origin[v]];
+    const Vec3 mid = 0.5 * (loop.path.points[sg.from] + loop.path.points[sg.to]);
+    const Vec3 left = unit_normal(mesh, sg.triangle).cross(sg.direction);
+    const double d = (mesh.positions[v] - mid).dot(left);
+    return d > 0 ? 1 : d < 0 ? -1 : 0;
+  };
+  for (Index a : reached) {
+    const int sa = side(a);
+    if (sa == 0) continue;
+    for (Index n = g.node_offsets[a]; n < g.node_offsets[a + 1]; ++n) {
+      const Index b = g.head[n];
+      if (b < a || origin[b] == kInvalid || side(b) != -sa) continue;  // each edge once, from its lower end
+      const Vec3& ta = loop.segments[origin[a]].direction;
+      const Vec3& tb = loop.segments[origin[b]].direction;
+      const Vec3 along = ta.dot(tb) >= 0 ? Vec3(ta + tb) : Vec3(ta - tb);
+      const Vec3 dir = g.tangent(surface, n) - g.tangent(surface, g.reverse[n]);
+      if (along.squaredNorm() == 0 || dir.squaredNorm() == 0) continue;
+      if (std::abs(dir.normalized().dot(along.normalized())) > cos_limit) {
+        nodes.push_back(n);
+        nodes.push_back(g.reverse[n]);
+      }
+    }
+  }
+}
+
+}  // namespace
+
 std::vector<Index> incompatible_nodes(const Surface& surface, const ElasticaGraph& g, const Strip& strip,
-                                      double max_angle_deg, double band) {
+                                      const LoopPath& loop, double max_angle_deg, double band) {
   // |cos| of the angle to the isocurve, either way along it.
   const double cos_limit = std::cos(max_angle_deg * M_PI / 180.0);
   // Per vertex, the least |across| of the strip there.
@@ -20,6 +81,7 @@ std::vector<Index> incompatible_nodes(const Surface& surface, const ElasticaGrap
       }
   }
   std::vector<Index> nodes;
+  disable_shallow_crossings(surface, g, loop, cos_limit, nodes);
   for (Index v = 0; v < surface.mesh.num_vertices(); ++v) {
     const Vec3& iso = strip.isocurve[v];
     if (iso.squaredNorm() == 0) continue;

@@ -1,6 +1,6 @@
 // Strip compatibility (paper §6.2): the g' nodes a strip disables.
 //
-// incompatible_nodes(graph, strip, max_angle_deg) -> node ids
+// incompatible_nodes(surface, graph, strip, loop, max_angle_deg, band) -> node ids
 //   Inside a strip's area (the vertices of its triangles), a g' node whose
 //   departure direction lies within max_angle_deg (45 by default) of the
 //   strip's isocurves runs along the strip. Disabling such nodes makes every
@@ -13,6 +13,13 @@
 //   within this distance of its loop (|across| <= band at a corner of the
 //   vertex's covered triangles). The paper disables the whole strip; a
 //   bounded band lets a denser layout put parallel loops further away.
+//   loop: the strip's loop. A g-edge can also cross the loop between its
+//   two ends, with no node near it (where the strip is narrow, stopped by a
+//   nearby singularity, a g-edge spans it): a curve through that edge meets
+//   the loop at the edge's own angle, and within max_angle_deg the
+//   parameterization would have to make both curves isocurves of the same
+//   coordinate and refuses the design. Such edges are disabled as well,
+//   wherever the strip reaches.
 //   Returned sorted, without repeats.
 #pragma once
 
@@ -24,7 +31,7 @@
 namespace stripweave {
 
 std::vector<Index> incompatible_nodes(const Surface& surface, const ElasticaGraph& graph, const Strip& strip,
-                                      double max_angle_deg = 45.0,
+                                      const LoopPath& loop, double max_angle_deg = 45.0,
                                       double band = std::numeric_limits<double>::infinity());
 
 }  // namespace stripweave

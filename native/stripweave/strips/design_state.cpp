@@ -191,7 +191,7 @@ void DesignState::set_strips(const std::vector<StripSpec>& specs) {
         mask = mask_;
       } else {
         try {
-          mask = mask_of(solve(paths, nullptr).strips);
+          mask = mask_of(paths, solve(paths, nullptr).strips);
         } catch (const Cancelled&) {
           throw_consistent(paths, loops_ms);
         } catch (const std::exception& e) {
@@ -255,7 +255,7 @@ void DesignState::finish(const std::vector<LoopPath>& paths, double loops_ms) {
   }
   Solved all = solve(paths, &timings_);
   // Derived once per edit, not per query: every hover applies it.
-  mask_ = mask_of(all.strips);
+  mask_ = mask_of(paths, all.strips);
   field_ = std::move(all.field);
   param_ = std::move(all.param);
   for (size_t i = 0; i < strips_.size(); ++i) strips_[i].strip = std::move(all.strips[i]);
@@ -286,10 +286,11 @@ void DesignState::rederive_all() {
   previous_ = {};
 }
 
-std::vector<Index> DesignState::mask_of(const std::vector<Strip>& strips) const {
+std::vector<Index> DesignState::mask_of(const std::vector<LoopPath>& paths, const std::vector<Strip>& strips) const {
   std::vector<Index> mask;
-  for (const Strip& strip : strips) {
-    const std::vector<Index> nodes = incompatible_nodes(session_->surface(), session_->graph(), strip, angle_deg_, band_);
+  for (size_t i = 0; i < strips.size(); ++i) {
+    const std::vector<Index> nodes =
+        incompatible_nodes(session_->surface(), session_->graph(), strips[i], paths[i], angle_deg_, band_);
     mask.insert(mask.end(), nodes.begin(), nodes.end());
   }
   std::sort(mask.begin(), mask.end());

@@ -121,7 +121,7 @@ class DesignState {
   // Derive field, S and strips of the whole design (the loops are known).
   void finish(const std::vector<LoopPath>& paths, double loops_ms);
   // The union of the strips' incompatible nodes, sorted.
-  std::vector<Index> mask_of(const std::vector<Strip>& strips) const;
+  std::vector<Index> mask_of(const std::vector<LoopPath>& paths, const std::vector<Strip>& strips) const;
 
   std::shared_ptr<LoopSession> session_;
   FieldOptions options_;
