@@ -34,6 +34,10 @@ std::vector<stripweave::Vec3> points_from(const pybind11::handle& a, const std::
 // A symmetry from its design.md dict (defined in bind_symmetry.cpp), in the
 // dict's units; InputError for a bad kind, vector or order.
 stripweave::Symmetry symmetry_of(const pybind11::dict& d);
+// A symmetry in model units taken to the surface's normalized units, and a
+// normalized symmetry as its design.md dict in model units (with its errors).
+stripweave::Symmetry normalized_symmetry(const stripweave::Surface& s, stripweave::Symmetry sym);
+pybind11::dict symmetry_dict(const stripweave::Surface& s, const stripweave::Symmetry& sym);
 
 // A vector handed to numpy without a copy: the array owns it and frees it with
 // itself (a copy would double a supersampled picture's tens of MB for a moment).

@@ -175,6 +175,20 @@ void bind_design(py::module_& m) {
             d.set_vertex_pins(std::move(normalized));
           },
           "Points (model units) where the user put primal vertices (paper §7): each moves its region's vertex there")
+      .def_property(
+          "layout_symmetries",
+          [](const DesignState& d) {
+            py::list out;
+            for (const Symmetry& s : d.layout_symmetries()) out.append(symmetry_dict(d.surface(), s));
+            return out;
+          },
+          [](DesignState& d, const std::vector<py::dict>& symmetries) {
+            std::vector<Symmetry> normalized;
+            for (const py::dict& s : symmetries) normalized.push_back(normalized_symmetry(d.surface(), symmetry_of(s)));
+            d.set_layout_symmetries(std::move(normalized));
+          },
+          "Symmetries (design.md dicts, model units) the layout respects (paper §5.8): regions that are images "
+          "of each other get vertices that are images of each other")
       .def_property("compatibility_angle", &DesignState::compatibility_angle, &DesignState::set_compatibility_angle,
                     "Degrees from a strip's direction within which it refuses loops (45: the paper's)")
       .def("disabled_nodes", &DesignState::disabled_nodes)

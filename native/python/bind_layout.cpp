@@ -10,7 +10,10 @@
 //                  "placement" (corner|boundary|feature|singularity|centre|
 //                  pinned: moved to one of the design's vertex_pins),
 //                  "clearance" (its distance from the loops within its
-//                  region), "inradius" (the region's largest)}]
+//                  region), "inradius" (the region's largest),
+//                  "image_of" (under the design's layout_symmetries: the
+//                  vertex this one is the symmetric image of, None for an
+//                  orbit's representative and without symmetries)}]
 //     edges      [{"points" (n,3), "vertices": [i, j], "arc", "loop",
 //                  "sharp", "boundary", "length"}]
 //     patches    [{"edges": [4], "reversed": [4], "corners": [4 vertices],
@@ -129,12 +132,13 @@ struct DesignLayout {
 
 // Arrangement and regions of embedded loops, and (primal) their quad layout.
 DesignLayout layout_of(const Surface& s, std::vector<LoopPath>& paths, const std::vector<Singularity>& singular,
-                       bool primal, const std::vector<Vec3>& pins = {}) {
+                       bool primal, const std::vector<Vec3>& pins = {},
+                       const std::vector<Symmetry>& symmetries = {}) {
   DesignLayout out;
   out.computed = compute(s, paths, singular);
   if (primal) {
     const auto t0 = Clock::now();
-    out.layout = build_quad_layout(s, out.computed.arrangement, out.computed.regions, singular, pins);
+    out.layout = build_quad_layout(s, out.computed.arrangement, out.computed.regions, singular, pins, symmetries);
     out.layout_ms = millis(t0, Clock::now());
   }
   return out;
@@ -146,7 +150,7 @@ DesignLayout design_layout(const DesignState& d, bool primal, const std::vector<
   std::vector<LoopPath> paths;
   for (const DesignStrip& st : d.strips()) paths.push_back(st.path);
   for (const Loop& loop : extra) paths.push_back(loop_path(d.session(), loop));
-  return layout_of(d.surface(), paths, d.field().singularities, primal, d.vertex_pins());
+  return layout_of(d.surface(), paths, d.field().singularities, primal, d.vertex_pins(), d.layout_symmetries());
 }
 
 py::dict layout_dict(const Surface& s, const std::vector<Singularity>& singular, const DesignLayout& dl,
@@ -166,6 +170,7 @@ py::dict layout_dict(const Surface& s, const std::vector<Singularity>& singular,
     d["boundary"] = v.boundary;
     d["region"] = v.region;
     d["placement"] = placement_name(v.placement);
+    d["image_of"] = v.image_of == kInvalid ? py::object(py::none()) : py::object(py::int_(v.image_of));
     d["clearance"] = v.clearance * sim.scale;
     d["inradius"] = v.inradius * sim.scale;
     d["defects"] = kind_names(L.defects.vertex_defects[vertices.size()]);

@@ -46,15 +46,16 @@ Vec3 vector_of(const py::dict& d, const char* key) {
   return Vec3(v[0], v[1], v[2]);
 }
 
+std::vector<double> list3(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
-Symmetry normalized(const Surface& s, Symmetry sym) {
+}  // namespace
+
+Symmetry normalized_symmetry(const Surface& s, Symmetry sym) {
   sym.point = s.similarity.to_normalized(sym.point);
   return sym;
 }
 
-std::vector<double> list3(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
-
-py::dict dict_of(const Surface& s, const Symmetry& sym) {
+py::dict symmetry_dict(const Surface& s, const Symmetry& sym) {
   py::dict d;
   const bool reflection = sym.kind == SymmetryKind::Reflection;
   d["kind"] = reflection ? "reflection" : "rotation";
@@ -65,8 +66,6 @@ py::dict dict_of(const Surface& s, const Symmetry& sym) {
   d["max_error"] = sym.max_error * s.similarity.scale;
   return d;
 }
-
-}  // namespace
 
 Symmetry symmetry_of(const py::dict& d) {
   const std::string kind = d.contains("kind") ? py::str(d["kind"]).cast<std::string>() : "";
@@ -96,7 +95,7 @@ void bind_symmetry(py::module_& m) {
         }
         py::list out;
         for (const Symmetry& sym : found) {
-          py::dict d = dict_of(s, sym);
+          py::dict d = symmetry_dict(s, sym);
           d["source"] = "detected";
           out.append(d);
         }
@@ -105,7 +104,7 @@ void bind_symmetry(py::module_& m) {
       "The surface's reflections and rotations within tolerance (diagonals), model units");
 
   m.def("measure_symmetry", [](const Surface& s, const py::dict& d) {
-        Symmetry sym = normalized(s, symmetry_of(d));
+        Symmetry sym = normalized_symmetry(s, symmetry_of(d));
         {
           py::gil_scoped_release release;
           const SurfaceLocator locator(s.mesh);
@@ -113,13 +112,13 @@ void bind_symmetry(py::module_& m) {
           sym.rms_error = e.rms;
           sym.max_error = e.max;
         }
-        py::dict out = dict_of(s, sym);
+        py::dict out = symmetry_dict(s, sym);
         if (d.contains("source")) out["source"] = d["source"];
         return out;
       }, py::arg("surface"), py::arg("symmetry"), "The symmetry with its RMS and max error on the surface");
 
   m.def("anchor_images", [](const Surface& s, const py::dict& d, const std::vector<double>& a) {
-        const Symmetry sym = normalized(s, symmetry_of(d));
+        const Symmetry sym = normalized_symmetry(s, symmetry_of(d));
         const Anchor anchor = anchor_from(s, a);
         const SurfaceLocator locator(s.mesh);
         py::list out;
@@ -133,7 +132,7 @@ void bind_symmetry(py::module_& m) {
       "The anchor's images on the other parts, re-projected onto the surface");
 
   m.def("symmetric_surface", [](const Surface& s, const py::dict& d) {
-        const Symmetry sym = normalized(s, symmetry_of(d));
+        const Symmetry sym = normalized_symmetry(s, symmetry_of(d));
         py::gil_scoped_release release;
         return std::make_shared<Surface>(symmetric_surface(s, sym));
       }, py::arg("surface"), py::arg("reflection"),

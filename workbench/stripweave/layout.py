@@ -11,7 +11,8 @@ compute_layout returns, in model units:
                  one kind beyond the first), "crease_problem" (why a crease region is one), ...}]
     valid      no region is red (only then are there vertices, edges and patches)
     vertices   [{"position", "valence", "boundary", "placement", "clearance" (from the loops,
-                 within its region), "inradius" (its region's largest clearance)}]
+                 within its region), "inradius" (its region's largest clearance), "image_of" (under
+                 the design's symmetry: the vertex it is the image of, else None)}]
     edges      [{"points", "vertices": [i, j], "sharp", "boundary", "length"}]
     patches    [{"edges": [4], "reversed": [4], "corners": [4], "corner_angles_deg": [4], "area",
                  "inradius", "defects": [kind, ...]}] (in the order of the native layout(True))

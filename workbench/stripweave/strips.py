@@ -34,13 +34,19 @@ class DesignSession:
     # --- editing -----------------------------------------------------------
     def update(self):
         """Recompute what changed since the last update (after editing self.design)."""
-        self.native.vertex_pins = self.design.pins   # the layout's alone: nothing to derive
+        self.apply_layout_inputs()
         try:
             self.native.set_strips(self.design.anchor_lists())
         finally:
             # The strips computed so far (all of them, or those before a failing one).
             for i, strip in enumerate(self.design.strips[:self.native.strip_count]):
                 strip.closed = bool(self.native.strip(i)["closed"])
+
+    def apply_layout_inputs(self):
+        """Hand the design's pins and symmetries to the layout: the layout's alone (nothing
+        to derive), so the regions' vertices follow them without recomputing the strips."""
+        self.native.vertex_pins = self.design.pins
+        self.native.layout_symmetries = list(self.design.symmetry or [])
 
     def add_strip(self, anchors):
         """Append a strip; on failure (an InputError, or a loop search cancelled or past

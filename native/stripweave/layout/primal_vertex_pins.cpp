@@ -27,12 +27,7 @@
 
 namespace stripweave {
 
-namespace {
-
-// The wedge off the loops whose vertex is nearest p, among those `allowed`
-// (kInvalid if none is).
-template <class Allowed>
-Index nearest_wedge(const PrimalContext& ctx, const Vec3& p, const Allowed& allowed) {
+Index nearest_wedge(const PrimalContext& ctx, const Vec3& p, const std::function<bool(Index)>& allowed) {
   const auto& positions = ctx.arrangement.mesh.positions;
   Index best = kInvalid;
   double best_d = std::numeric_limits<double>::infinity();
@@ -44,8 +39,6 @@ Index nearest_wedge(const PrimalContext& ctx, const Vec3& p, const Allowed& allo
   }
   return best;
 }
-
-}  // namespace
 
 void pin_primal_vertices(const PrimalContext& ctx, const std::vector<Vec3>& pins, std::vector<PrimalVertex>& vertices,
                          std::vector<Index>& vertex_wedge) {

@@ -78,6 +78,16 @@ std::vector<double> side_balance(const PrimalContext& ctx);
 void pin_primal_vertices(const PrimalContext& ctx, const std::vector<Vec3>& pins, std::vector<PrimalVertex>& vertices,
                          std::vector<Index>& vertex_wedge);
 
+// The wedge off the loops (and off the crossings) whose vertex is nearest p,
+// among those `allowed` (kInvalid if none is); O(wedges) (primal_vertex_pins.cpp).
+Index nearest_wedge(const PrimalContext& ctx, const Vec3& p, const std::function<bool(Index)>& allowed);
+
+// symmetrize_primal_vertices  move the vertices of regions that are images
+//                      of each other under the symmetries to images of each
+//                      other (quad_layout.h; primal_vertex_symmetry.cpp)
+void symmetrize_primal_vertices(const PrimalContext& ctx, const std::vector<Symmetry>& symmetries,
+                                std::vector<PrimalVertex>& vertices, std::vector<Index>& vertex_wedge);
+
 std::vector<PrimalVertex> place_primal_vertices(const PrimalContext& ctx, const std::vector<Singularity>& singularities,
                                                 std::vector<Index>& vertex_wedge);
 

@@ -132,7 +132,8 @@ std::pair<Index, Index> PrimalContext::arc_side_wedges(Index k, size_t i) const 
 }
 
 QuadLayout build_quad_layout(const Surface& s, const LoopArrangement& A, const Regions& G,
-                             const std::vector<Singularity>& singularities, const std::vector<Vec3>& pins) {
+                             const std::vector<Singularity>& singularities, const std::vector<Vec3>& pins,
+                             const std::vector<Symmetry>& symmetries) {
   QuadLayout layout;
   layout.valid = G.valid;
   if (!G.valid) {
@@ -147,6 +148,7 @@ QuadLayout build_quad_layout(const Surface& s, const LoopArrangement& A, const R
   std::vector<Index> vertex_wedge;
   layout.vertices = place_primal_vertices(ctx, singularities, vertex_wedge);
   pin_primal_vertices(ctx, pins, layout.vertices, vertex_wedge);
+  symmetrize_primal_vertices(ctx, symmetries, layout.vertices, vertex_wedge);
   layout.edges = route_primal_edges(ctx, vertex_wedge, layout.problems);
   for (const PrimalEdge& e : layout.edges) {
     ++layout.vertices[e.v0].valence;

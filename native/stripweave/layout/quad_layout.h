@@ -1,12 +1,14 @@
 // Primalization (paper §7): the quad layout that a valid set of dual loops
 // implies, embedded in the refined mesh of their arrangement.
 //
-// build_quad_layout(surface, arrangement, regions, singularities, pins) -> QuadLayout
+// build_quad_layout(surface, arrangement, regions, singularities, pins,
+//                   symmetries) -> QuadLayout
 //   Input : the surface; the loops' arrangement (loop_arrangement.h) and its
 //           regions (regions.h), computed with the same singularities
 //           (cross_field.h); pins: points (normalized units) where the user
 //           put primal vertices (§7: dragged within their regions), none by
-//           default.
+//           default; symmetries: the reflections and rotations the design
+//           accepted (paper §5.8; normalized units), none by default.
 //   Structure (fixed by the loops): one primal vertex per region, one primal
 //           edge per arc (a loop's piece between crossings) joining the
 //           regions on its two sides, one quad patch per crossing bounded by
@@ -31,6 +33,14 @@
 //               points the rules allow there: on the boundary for a
 //               boundary region, on the crease for a region carrying one,
 //               and nowhere for a corner of the part, which stays.
+//               Under symmetries, regions that are images of each other
+//               get vertices that are images of each other: one
+//               representative per orbit keeps its vertex (a pinned region
+//               if the orbit has one: its images get the mapped pin), the
+//               others take its image, snapped to their points the same
+//               rules allow; a region that is its own image gets a point
+//               of the plane or axis where the rules allow one
+//               (primal_vertex_symmetry.cpp).
 //     edges     primal_edges.cpp: shortest paths in the region cut open along
 //               the loops (each region's shortest-path tree from its vertex,
 //               so edges leaving a vertex never cross; edges of different
@@ -62,6 +72,7 @@
 #include "stripweave/layout/layout_defects.h"
 #include "stripweave/layout/regions.h"
 #include "stripweave/surface/creases.h"
+#include "stripweave/symmetry/symmetry.h"
 
 #include <array>
 #include <string>
@@ -80,6 +91,10 @@ struct PrimalVertex {
   // Distance from the loops within its region, and the region's largest
   // (its inradius), normalized units: how centred the vertex sits.
   double clearance = 0, inradius = 0;
+  // The vertex (region) whose vertex this one is the symmetric image of
+  // (primal_vertex_symmetry.cpp); kInvalid for an orbit's representative
+  // and without symmetries.
+  Index image_of = kInvalid;
 };
 
 struct PrimalEdge {
@@ -136,6 +151,7 @@ struct QuadLayout {
 constexpr double kCreaseSlack = 1e-6;  // of the bounding-box diagonal
 
 QuadLayout build_quad_layout(const Surface& surface, const LoopArrangement& arrangement, const Regions& regions,
-                             const std::vector<Singularity>& singularities, const std::vector<Vec3>& pins = {});
+                             const std::vector<Singularity>& singularities, const std::vector<Vec3>& pins = {},
+                             const std::vector<Symmetry>& symmetries = {});
 
 }  // namespace stripweave

@@ -26,6 +26,7 @@
 
 #include "stripweave/elastica/loop_session.h"
 #include "stripweave/strips/compatibility.h"
+#include "stripweave/symmetry/symmetry.h"
 
 #include <memory>
 
@@ -80,6 +81,12 @@ class DesignState {
   // the loops, field and strips do not depend on them, only the layout.
   void set_vertex_pins(std::vector<Vec3> pins) { pins_ = std::move(pins); }
   const std::vector<Vec3>& vertex_pins() const { return pins_; }
+  // The symmetries the design accepted (paper §5.8), normalized units: the
+  // layout puts the vertices of regions that are each other's images at
+  // each other's images (primal_vertex_symmetry.cpp). The layout's alone,
+  // like the pins: the strips' images are added by the caller.
+  void set_layout_symmetries(std::vector<Symmetry> s) { layout_symmetries_ = std::move(s); }
+  const std::vector<Symmetry>& layout_symmetries() const { return layout_symmetries_; }
 
   // The compatibility mask of all strips, sorted node ids.
   const std::vector<Index>& disabled_nodes() const { return mask_; }
@@ -129,6 +136,7 @@ class DesignState {
   double angle_deg_ = 45.0;
   std::vector<DesignStrip> strips_;
   std::vector<Vec3> pins_;
+  std::vector<Symmetry> layout_symmetries_;
   CrossField field_;
   Parameterization param_;
   DesignTimings timings_;

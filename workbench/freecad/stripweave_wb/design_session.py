@@ -340,8 +340,8 @@ class SessionCache:
                 self._mesh = None
                 self.applied_key = None
             if key == self.applied_key and self.derived is not None:
-                self.session.design = design  # same strips: only unknown keys or pins may differ
-                self.session.native.vertex_pins = design.pins   # the layout's alone: nothing to derive
+                self.session.design = design  # same strips: only unknown keys, pins or symmetries may differ
+                self.session.apply_layout_inputs()   # the layout's alone: nothing to derive
                 return self.derived
             self.session.design = design
             self._mask_key = None
