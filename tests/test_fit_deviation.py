@@ -138,3 +138,47 @@ def test_bad_patches():
         native.fit_deviation(surf, [dict(patches[0], nu=2)], 0.01)
     with pytest.raises(sw.InputError):
         native.fit_deviation(surf, patches, -1.0)
+
+
+def rippled_patch(corner, a, b, normal, spans, amplitude):
+    """The square corner + s a + t b as a bicubic of spans x spans, its inner control
+    points pushed alternately +-amplitude along the normal: a patch that ripples at the
+    span scale, as a fit far off its source does."""
+    corner, a, b, normal = (np.asarray(x, dtype=float) for x in (corner, a, b, normal))
+    n = spans + 3
+    control = []
+    for i in range(n):
+        for j in range(n):
+            inner = 0 < i < n - 1 and 0 < j < n - 1
+            control.append(corner + (i / (n - 1)) * a + (j / (n - 1)) * b
+                           + (amplitude * (-1) ** (i + j) if inner else 0.0) * normal)
+    return {"nu": spans, "nv": spans, "control": np.array(control)}
+
+
+def test_patch_tessellation_is_capped_and_its_error_reported():
+    """A rippling patch would need the densest grid (200 x 200 cells) for its chord of
+    tolerance / 10; under max_patch_triangles the tessellation stays within the cap, the
+    coarsening falls on the rippling patch (the exact planar ones still measure zero),
+    measurement_error grows with the chord it then has, and no figure drops below the
+    uncapped one by more than that bound (every distance is to a point of a patch)."""
+    size = 10.0
+    surf = sw.from_shape(models.box(size))
+    patches, normals = box_face_patches(size)
+    c, a, b = (np.array(x, dtype=float) for x in CUBE_FACES[0])
+    h = size / 2
+    patches[0] = rippled_patch(h + h * (c - a - b), 2 * h * a, 2 * h * b, normals[0], 12, 0.3)
+    tol = 1e-3 * size * math.sqrt(3)
+    free = native.fit_deviation(surf, patches, tol)
+    cap = 5000
+    capped = native.fit_deviation(surf, patches, tol, max_patch_triangles=cap)
+    assert free["patch_triangles"] > 10 * cap  # the cap binds
+    assert capped["patch_triangles"] <= cap
+    assert capped["patch_chord"] > free["patch_chord"]
+    assert capped["measurement_error"] >= 3 * capped["patch_chord"] - 1e-12
+    assert capped["measurement_error"] > free["measurement_error"]
+    for i in range(1, 6):
+        assert capped["per_patch"][i]["max_deviation"] < 1e-9
+    for key in ("max_deviation_source_to_patches", "max_deviation_patches_to_source"):
+        assert capped[key] >= free[key] - free["measurement_error"]
+        assert capped[key] <= free[key] + capped["measurement_error"]
+    assert capped["max_deviation"] > 0.05  # the ripple is seen

@@ -27,7 +27,8 @@
 //     rms_deviation_source_to_patches, rms_deviation_patches_to_source,
 //     coverage, uncovered_area and source_area (model units^2),
 //     source_samples, patch_samples, unsampled_faces, measurement_error,
-//     spacing (of the source samples),
+//     spacing (of the source samples), patch_triangles and patch_chord (the
+//     patch tessellation's size and largest chordal error, fit_deviation.h),
 //     triangle_uncovered (numpy float array: per Surface triangle, the
 //     fraction of its source area not within tolerance of a patch),
 //     fit_max_deviation and fit_rms_deviation (the refinement's own measure
@@ -68,9 +69,11 @@
 //   those patches against the surface's source (surfacing/fit_deviation.h):
 //   the refit's deviation keys (max_deviation, ..._source_to_patches,
 //   ..._patches_to_source, coverage, uncovered_area, source_area,
-//   triangle_uncovered, measurement_error, spacing, per_patch [{max_deviation,
+//   triangle_uncovered, measurement_error, spacing, patch_triangles,
+//   patch_chord, per_patch [{max_deviation,
 //   max/rms_deviation_source_to_patch, max/rms_deviation_patch_to_source,
-//   source_area}]).
+//   source_area}]); max_patch_triangles (0: the default) caps the patch
+//   tessellation.
 //
 // project_to_face(surface, face, points, near=0) -> (n, 3) array
 //   the points' foot points on B-rep face `face` of the surface's source
@@ -232,6 +235,8 @@ void put_deviation(py::dict& d, const FitDeviation& r) {
   d["unsampled_faces"] = r.unmeshed_faces;
   d["measurement_error"] = r.measurement_error;
   d["spacing"] = r.spacing;
+  d["patch_triangles"] = r.patch_triangles;
+  d["patch_chord"] = r.patch_chord;
   d["triangle_uncovered"] = double_array(r.triangle_uncovered);
 }
 
@@ -407,13 +412,14 @@ void bind_surfacing(py::module_& m) {
       "Fit B-spline patches to a quad patch network, sew them, optionally write STEP AP214 (see bind_surfacing.cpp)");
 
   m.def("fit_deviation", [](const Surface& surface, const py::list& patches, double tolerance, double spacing,
-                            double chord) {
+                            double chord, Index max_patch_triangles) {
         if (!(tolerance > 0)) throw InputError("fit_deviation: the tolerance must be positive");
         std::vector<BSplinePatch> P;
         for (const py::handle& h : patches) P.push_back(patch_from(h));
         if (P.empty()) throw InputError("fit_deviation: no patches");
         DeviationOptions options;
         options.spacing = spacing, options.chord = chord;
+        if (max_patch_triangles > 0) options.max_patch_triangles = max_patch_triangles;
         FitDeviation r;
         {
           stripweave_python::NativeCall release;
@@ -426,7 +432,7 @@ void bind_surfacing(py::module_& m) {
         d["per_patch"] = per_patch;
         return d;
       }, py::arg("surface"), py::arg("patches"), py::arg("tolerance"), py::arg("spacing") = 0.0,
-      py::arg("chord") = 0.0,
+      py::arg("chord") = 0.0, py::arg("max_patch_triangles") = 0,
       "The two-sided deviation and coverage of B-spline patches against the surface's source (see bind_surfacing.cpp)");
 }
 

@@ -47,11 +47,13 @@ PATCH_KEYS = ("max_deviation", "rms_deviation", "max_deviation_source_to_patch",
 SPLIT_KEYS = ("patch", "layout_patch", "direction", "at", "reason", "deviation_before", "strip", "new_patches",
               "closed_strip", "round")
 # Beyond design.md's: where the tolerance is missed and why, how the deviation was
-# measured (samples, the bound on each measured distance's error, the refinement's own
+# measured (samples, the bound on each measured distance's error, the patch tessellation's
+# triangles (capped, native fit_deviation.h), the refinement's own
 # measure at its fit samples), and the refit's own time.
 EXTRA_KEYS = ("max_seam_angle_deg_regular", "max_edge_deviation", "max_deviation_uncreased",
               "tolerance_met_uncreased", "creased_patches", "folded_patches", "source_area", "source_samples",
-              "patch_samples", "unsampled_faces", "measurement_error", "fit_max_deviation", "time_s")
+              "patch_samples", "unsampled_faces", "measurement_error", "patch_triangles", "fit_max_deviation",
+              "time_s")
 
 
 def refit_design(design_session, tolerance=None, step_path=None, **options):

@@ -44,8 +44,31 @@ struct PatchMesh {
 // The samples: per patch a grid of `per_span` samples per span, spaced at most
 // `spacing`. The tessellation for nearest-point queries: a grid only as fine
 // as the chordal error asks (2 per span at least).
+size_t triangles_under_cap(const std::vector<PatchGrid>& grids, int cap) {
+  size_t n = 0;
+  for (const PatchGrid& g : grids) n += 2 * size_t(std::min(g.nu, cap)) * size_t(std::min(g.nv, cap));
+  return n;
+}
+
+// Within max_triangles: the largest per-direction cell count c for which the
+// grids, each cut to at most c x c cells, fit; the cut grids are made again.
+// Patches that need fewer cells keep theirs: the coarsening falls on the
+// patches that ripple most, whose deviation is farthest above any tolerance.
+void cap_tessellation(const std::vector<BSplinePatch>& patches, std::vector<PatchGrid>& coarse, size_t max_triangles) {
+  if (triangles_under_cap(coarse, kMaxGridSamples) <= max_triangles) return;
+  int lo = 1, hi = kMaxGridSamples;  // triangles_under_cap(lo) fits (or lo = 1), hi does not
+  while (hi - lo > 1) {
+    const int mid = (lo + hi) / 2;
+    (triangles_under_cap(coarse, mid) <= max_triangles ? lo : hi) = mid;
+  }
+  parallel_for(static_cast<Index>(coarse.size()), [&](Index p) {
+    PatchGrid& g = coarse[p];
+    if (g.nu > lo || g.nv > lo) g = patch_grid_of_size(patches[p], std::min(g.nu, lo), std::min(g.nv, lo));
+  });
+}
+
 PatchMesh patch_mesh(const std::vector<BSplinePatch>& patches, double spacing, double chord, int per_span,
-                     std::vector<PatchGrid>& grids) {
+                     Index max_triangles, std::vector<PatchGrid>& grids) {
   const Index nP = static_cast<Index>(patches.size());
   grids.assign(nP, {});
   std::vector<PatchGrid> coarse(nP);
@@ -53,6 +76,7 @@ PatchMesh patch_mesh(const std::vector<BSplinePatch>& patches, double spacing, d
     grids[p] = patch_grid(patches[p], spacing, 0.0, per_span);
     coarse[p] = patch_grid(patches[p], 0.0, chord, 2);
   });
+  cap_tessellation(patches, coarse, static_cast<size_t>(std::max<Index>(max_triangles, 2 * nP)));
   PatchMesh out;
   for (Index p = 0; p < nP; ++p) {
     const PatchGrid& g = coarse[p];
@@ -133,9 +157,11 @@ FitDeviation fit_deviation(const Surface& surface, const std::vector<BSplinePatc
   const SourceSamples S = sample_source(surface, h, chord);
   watch.lap("source_samples");
   std::vector<PatchGrid> grids;
-  const PatchMesh P = patch_mesh(patches, h, chord, std::max(1, options.samples_per_span / 2), grids);
+  const PatchMesh P = patch_mesh(patches, h, chord, std::max(1, options.samples_per_span / 2),
+                                 options.max_patch_triangles, grids);
   watch.lap("patch_samples");
   out.source_chord = S.max_chord, out.patch_chord = P.max_chord;
+  out.patch_triangles = P.mesh.num_triangles();
   const BrepSource* brep = surface.brep && !S.face.empty() ? surface.brep.get() : nullptr;
   // Chordal bounds of both tessellations (see the header).
   const double eps_patches = 1.5 * P.max_chord;

@@ -45,6 +45,13 @@
 //         per span the sampled maximum is within 8 % of the maximum between
 //         samples; at 4, within 29 %, so every bump that could top it is
 //         refined); RMS figures come from the 4 per span;
+//         The patch tessellation is capped at max_patch_triangles: a
+//         network whose patches ripple (a fit far off the source, folded)
+//         would otherwise need grids of 200 x 200 cells on every patch (a
+//         casting's 126 patches: 7M triangles, 1.5 GB of tree). Under the
+//         cap the patches that need the most cells are coarsened first (one
+//         cell count c bounds every patch's grid per direction, the largest
+//         c that fits); the chord they then have enters measurement_error.
 //         the source samples are spaced at most `spacing` (default: the
 //         solver mesh's mean edge, so one or two per solver triangle), which
 //         sizes the coverage's resolution.
@@ -64,6 +71,12 @@ struct DeviationOptions {
   double chord = 0;          // model units; 0: tolerance / 10
   int samples_per_span = 8;
   Index max_source_samples = 600000;  // the spacing grows to stay under this
+  // The patch tessellation's triangles at most (its AABB tree takes about 200
+  // bytes a triangle: 1.2M keeps it near 250 MB, so that the whole job stays
+  // under 1 GB). Patches whose chord would need more cells than their share
+  // get coarser grids, the finest-needing first; measurement_error grows
+  // with their chord, so the bound stays honest.
+  Index max_patch_triangles = 1200000;
 };
 
 struct PatchDeviation {
@@ -84,6 +97,7 @@ struct FitDeviation {
   Index unmeshed_faces = 0;
   double spacing = 0, measurement_error = 0;
   double source_chord = 0, patch_chord = 0;  // largest centroid chordal errors of the two tessellations
+  Index patch_triangles = 0;                 // of the patch tessellation (within max_patch_triangles)
   StageTimings timings;                      // ms per step
 };
 

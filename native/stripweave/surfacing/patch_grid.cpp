@@ -72,4 +72,8 @@ PatchGrid patch_grid(const BSplinePatch& patch, double spacing, double chord, in
   return g;
 }
 
+PatchGrid patch_grid_of_size(const BSplinePatch& patch, int nu, int nv) {
+  return grid_of(patch, std::max(nu, 1), std::max(nv, 1), true);
+}
+
 }  // namespace stripweave

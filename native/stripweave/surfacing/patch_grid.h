@@ -39,4 +39,7 @@ struct PatchGrid {
 
 PatchGrid patch_grid(const BSplinePatch& patch, double spacing, double chord, int per_span = 8);
 
+// The grid of exactly nu x nv cells (each at least 1), its max_chord measured.
+PatchGrid patch_grid_of_size(const BSplinePatch& patch, int nu, int nv);
+
 }  // namespace stripweave
