@@ -5,7 +5,9 @@
 #include "stripweave/core/stopwatch.h"
 
 #include <algorithm>
+#include <limits>
 #include <stdexcept>
+#include <tuple>
 
 namespace stripweave {
 
@@ -217,12 +219,18 @@ void DesignState::set_strips(const std::vector<StripSpec>& specs) {
       paths.resize(i);
       throw_consistent(paths, loops_ms);
     }
-    clock.lap("loop");
-    loops_ms += laps.back().second;
     DesignStrip d;
     d.spec = specs[i];
-    d.loop = std::move(found.front());
-    d.path = loop_path(*session_, d.loop);
+    try {
+      std::tie(d.loop, d.path) = transversal_loop(specs[i], paths, std::move(found.front()));
+    } catch (...) {
+      session_->clear_disabled();
+      strips_.resize(i);
+      paths.resize(i);
+      throw_consistent(paths, loops_ms);
+    }
+    clock.lap("loop");
+    loops_ms += laps.back().second;
     paths.push_back(d.path);
     strips_.push_back(std::move(d));
   }
@@ -242,6 +250,71 @@ void DesignState::set_strips(const std::vector<StripSpec>& specs) {
     if (strips_.empty()) throw;
     fail(strips_.size() - 1, e.what());
   }
+}
+
+// The compatibility mask is a prediction from the earlier strips'
+// isocurves; the parameterization's meeting test, under the field of all
+// loops, is the truth (parameterization.h, contradicting_meetings): a loop
+// can still meet an earlier one too tangentially where a strip stops short of
+// its loop (at a crease, beside a singularity) or where an embedded g-edge
+// turns away from its nodes' directions. Each round disables the g' nodes
+// from which the new loop departed into such a meeting (with their reversed
+// nodes: the mask stays symmetric) and searches again through the same
+// anchors. Of the loops tried, the first without such a meeting is taken,
+// else the one with the fewest (the earliest among equals): the solve then
+// names the meeting, as it did before. The rounds end early when no loop
+// passes the anchors under the larger mask, or when a meeting does not
+// involve the new loop (the new field made two earlier loops contradict).
+// The extra nodes are this strip's only: set_strips clears the session's
+// mask after each loop. Cost: one field and cut per round, only where the
+// first loop meets another; a few rounds at most.
+std::pair<Loop, LoopPath> DesignState::transversal_loop(const StripSpec& spec, const std::vector<LoopPath>& paths,
+                                                        Loop loop) {
+  constexpr int kRounds = 4;
+  const Surface& s = session_->surface();
+  std::vector<LoopPath> all = paths;
+  std::vector<std::vector<PathSegment>> segments;
+  for (const LoopPath& p : paths) segments.push_back(p.segments);
+  const Index fresh = static_cast<Index>(paths.size());
+  std::pair<Loop, LoopPath> best;
+  size_t best_meetings = std::numeric_limits<size_t>::max();
+  for (int round = 0;; ++round) {
+    all.push_back(loop_path(*session_, loop));
+    segments.push_back(all.back().segments);
+    const std::vector<LoopMeeting> meetings =
+        contradicting_meetings(s, compute_cross_field(s, loop_constraints(segments), options_), all);
+    LoopPath path = std::move(all.back());
+    all.pop_back();
+    segments.pop_back();
+    if (meetings.size() < best_meetings) best_meetings = meetings.size(), best = {loop, path};
+    if (meetings.empty() || round == kRounds) break;
+    std::vector<Index> nodes;
+    const std::vector<Index>& starts = path.path.node_start;
+    bool others = false;
+    for (const LoopMeeting& m : meetings) {
+      others |= m.loop_a != fresh && m.loop_b != fresh;
+      for (const auto& [l, k] : {std::pair{m.loop_a, m.k_a}, std::pair{m.loop_b, m.k_b}}) {
+        if (l != fresh) continue;
+        // The g-edge whose embedding holds segment k starts at the last node start not after it.
+        const auto it = std::upper_bound(starts.begin(), starts.end(), path.segments[k].from);
+        const Index j = std::clamp<Index>(static_cast<Index>(it - starts.begin()) - 1, 0,
+                                          static_cast<Index>(loop.nodes.size()) - 1);
+        nodes.push_back(loop.nodes[j]);
+        nodes.push_back(session_->graph().reverse[loop.nodes[j]]);
+      }
+    }
+    if (others) break;
+    session_->set_disabled(nodes, true);
+    std::vector<Loop> again;
+    try {
+      again = session_->loops(spec.anchors, 1);
+    } catch (const InputError&) {
+      break;  // an anchor's own direction is now disabled: no other loop
+    }
+    if (again.empty()) break;
+    loop = std::move(again.front());
+  }
+  return best;
 }
 
 void DesignState::finish(const std::vector<LoopPath>& paths, double loops_ms) {

@@ -13,6 +13,11 @@
 //   strips     per loop, the strip it owns (strip_extraction.h);
 //   mask       the union of the strips' incompatible g' nodes, which
 //              apply_mask() hands to the LoopSession for the next loop.
+// The mask predicts from the earlier strips where a loop would run along
+// them; the loop actually found is checked by the parameterization's own
+// meeting test (contradicting_meetings, parameterization.h), and where it
+// still meets an earlier loop or itself too tangentially, the g' nodes it
+// left from there are disabled too and it is searched again.
 // Editing (set_strips) recomputes from the first strip that changed: the
 // loops before it, and the masks they imply, are kept. Each strip i > 0 costs
 // one field and parameterization solve over loops 0..i-1 (its mask), and the
@@ -129,6 +134,10 @@ class DesignState {
   void finish(const std::vector<LoopPath>& paths, double loops_ms);
   // The union of the strips' incompatible nodes, sorted.
   std::vector<Index> mask_of(const std::vector<LoopPath>& paths, const std::vector<Strip>& strips) const;
+  // The loop found for `spec` under the session's mask, searched again where
+  // it meets an earlier loop (of `paths`) or itself too tangentially (see
+  // design_state.cpp); with its path.
+  std::pair<Loop, LoopPath> transversal_loop(const StripSpec& spec, const std::vector<LoopPath>& paths, Loop loop);
 
   std::shared_ptr<LoopSession> session_;
   FieldOptions options_;

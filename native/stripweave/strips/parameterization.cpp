@@ -158,21 +158,22 @@ bool segments_meet(const Vec2& p, const Vec2& q, const Vec2& r, const Vec2& s) {
   return on(p, q, r) || on(p, q, s) || on(r, s, p) || on(r, s, q);
 }
 
-[[noreturn]] void throw_meeting(const Surface& s, const std::vector<LoopPath>& loops, const SegmentRef& a,
-                               const SegmentRef& b, const Vec3& where) {
+[[noreturn]] void throw_meeting(const Surface& s, const LoopMeeting& meeting) {
   std::ostringstream m;
-  if (a.loop == b.loop)
-    m << "loop " << a.loop << " meets itself";
+  if (meeting.loop_a == meeting.loop_b)
+    m << "loop " << meeting.loop_a << " meets itself";
   else
-    m << "loops " << a.loop << " and " << b.loop << " meet";
-  m << " near " << model_point(s, where)
+    m << "loops " << meeting.loop_a << " and " << meeting.loop_b << " meet";
+  m << " near " << model_point(s, meeting.where)
     << " running in the same direction of the cross field: both would have to be isocurves of the same coordinate "
        "there, so the strips would collapse; loops must cross transversally";
   throw InputError(m.str());
 }
 
-void check_meetings(const Surface& s, const CutGraph& cut, const std::vector<LoopPath>& loops,
-                    const std::vector<std::vector<int>>& axis) {
+// Every contradicting meeting, in the order of the two tests below.
+std::vector<LoopMeeting> meetings_of(const Surface& s, const CutGraph& cut, const std::vector<LoopPath>& loops,
+                                     const std::vector<std::vector<int>>& axis) {
+  std::vector<LoopMeeting> found;
   const TriangleMesh& mesh = s.mesh;
   const MeshTopology& topo = s.topology;
 
@@ -204,7 +205,8 @@ void check_meetings(const Surface& s, const CutGraph& cut, const std::vector<Loo
         const auto [r, w] = ends(rb, t);
         if (segments_meet(p, q, r, w)) {
           const Tri& f = mesh.triangles[t];
-          throw_meeting(s, loops, ra, rb, (mesh.positions[f[0]] + mesh.positions[f[1]] + mesh.positions[f[2]]) / 3);
+          found.push_back({ra.loop, ra.k, rb.loop, rb.k,
+                           (mesh.positions[f[0]] + mesh.positions[f[1]] + mesh.positions[f[2]]) / 3});
         }
       }
     i = j;
@@ -265,15 +267,37 @@ void check_meetings(const Surface& s, const CutGraph& cut, const std::vector<Loo
       for (size_t a = i; a < j; ++a)
         for (size_t b = a + 1; b < j; ++b)
           if (!same_pass(loops, at[a].ref, at[b].ref) && axis_in_fan(at[a]) == axis_in_fan(at[b]))
-            throw_meeting(s, loops, at[a].ref, at[b].ref, mesh.positions[v]);
+            found.push_back({at[a].ref.loop, at[a].ref.k, at[b].ref.loop, at[b].ref.k, mesh.positions[v]});
     }
     i = j;
   }
+  return found;
+}
+
+// The coordinate across each loop segment: where the loop runs along the
+// combed field it is an isocurve of v, where it runs along f^perp of u.
+std::vector<std::vector<int>> loop_axes(const Surface& surface, const CrossField& field, const CutGraph& cut,
+                                        const std::vector<LoopPath>& loops) {
+  std::vector<std::vector<int>> axis(loops.size());
+  for (size_t l = 0; l < loops.size(); ++l)
+    for (const PathSegment& g : loops[l].segments) {
+      const Index t = g.triangle;
+      const Vec3 f = combed_direction(surface, field, cut, t), n = unit_normal(surface.mesh, t);
+      const double along_u = std::abs(g.direction.dot(f)), along_v = std::abs(g.direction.dot(n.cross(f)));
+      axis[l].push_back(along_u >= along_v ? 1 : 0);
+    }
+  return axis;
 }
 
 }  // namespace
 
 Vec2 Transition::apply(const Vec2& p) const { return turn(p, r) + tr; }
+
+std::vector<LoopMeeting> contradicting_meetings(const Surface& surface, const CrossField& field,
+                                                const std::vector<LoopPath>& loops) {
+  const CutGraph cut = cut_to_disk(surface, field);
+  return meetings_of(surface, cut, loops, loop_axes(surface, field, cut, loops));
+}
 
 std::vector<Index> vertex_elimination_order(const Surface& surface) {
   return nested_dissection_order(surface.topology.vertex_neighbours);
@@ -312,16 +336,9 @@ Parameterization parameterize(const Surface& surface, const CrossField& field, c
   out.on_cut = cut.on_cut;
   out.cut_ends = cut.cut_ends;
 
-  // The coordinate across each loop segment: where the loop runs along the
-  // combed field it is an isocurve of v, where it runs along f^perp of u.
-  out.loop_axis.resize(loops.size());
-  for (size_t l = 0; l < loops.size(); ++l)
-    for (const PathSegment& g : loops[l].segments) {
-      const Index t = g.triangle;
-      const double along_u = std::abs(g.direction.dot(f[t])), along_v = std::abs(g.direction.dot(n[t].cross(f[t])));
-      out.loop_axis[l].push_back(along_u >= along_v ? 1 : 0);
-    }
-  check_meetings(surface, cut, loops, out.loop_axis);
+  out.loop_axis = loop_axes(surface, field, cut, loops);
+  if (const std::vector<LoopMeeting> m = meetings_of(surface, cut, loops, out.loop_axis); !m.empty())
+    throw_meeting(surface, m.front());
   lap("cut and comb");
 
   // --- Unknowns -------------------------------------------------------------

@@ -100,4 +100,18 @@ std::vector<Index> vertex_elimination_order(const Surface& surface);
 Parameterization parameterize(const Surface& surface, const CrossField& field, const std::vector<LoopPath>& loops,
                               const std::vector<Index>& vertex_order = {});
 
+// Two loop segments (loop, index into its segments) of different passes that
+// meet, in one triangle or at a mesh vertex, while both are to be isocurves
+// of the same coordinate of the field's chart, and where.
+struct LoopMeeting {
+  Index loop_a = kInvalid, k_a = kInvalid, loop_b = kInvalid, k_b = kInvalid;
+  Vec3 where = Vec3::Zero();  // normalized units
+};
+
+// Every such meeting: the combinatorial test by which parameterize() refuses
+// a design (it names the first), without the solve. Empty when every loop
+// crosses every other, and itself, transversally under this field.
+std::vector<LoopMeeting> contradicting_meetings(const Surface& surface, const CrossField& field,
+                                                const std::vector<LoopPath>& loops);
+
 }  // namespace stripweave
