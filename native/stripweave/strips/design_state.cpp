@@ -5,9 +5,9 @@
 #include "stripweave/core/stopwatch.h"
 
 #include <algorithm>
+#include <chrono>
 #include <limits>
 #include <stdexcept>
-#include <tuple>
 
 namespace stripweave {
 
@@ -29,19 +29,25 @@ LoopPath loop_path(const LoopSession& session, const Loop& loop) {
 DesignState::DesignState(std::shared_ptr<LoopSession> session, const FieldOptions& options)
     : session_(std::move(session)), options_(options) {}
 
-DesignState::Solved DesignState::solve(const std::vector<LoopPath>& paths, DesignTimings* timings) const {
+DesignState::Solved DesignState::solve(const std::vector<LoopPath>& paths, DesignTimings* timings,
+                                       std::optional<KnownField> known) const {
   const Surface& s = session_->surface();
   if (failing_solves_ > 0) {
     --failing_solves_;
     throw std::runtime_error("a solve failed on purpose (fail_solves_for_test)");
   }
   Solved out;
-  std::vector<std::vector<PathSegment>> segments;
-  for (const LoopPath& p : paths) segments.push_back(p.segments);
   StageTimings laps;
   Stopwatch clock(laps);
-  out.field = compute_cross_field(s, loop_constraints(segments), options_);
+  if (known) {
+    out.field = std::move(known->field);
+  } else {
+    std::vector<std::vector<PathSegment>> segments;
+    for (const LoopPath& p : paths) segments.push_back(p.segments);
+    out.field = compute_cross_field(s, loop_constraints(segments), options_);
+  }
   clock.lap("field");
+  if (known) laps[0].second = known->ms;  // the time the field took when it was solved
   if (vertex_order_.empty()) vertex_order_ = vertex_elimination_order(s);
   out.param = parameterize(s, out.field, paths, vertex_order_);
   clock.lap("parameterization");
@@ -150,6 +156,14 @@ void DesignState::set_strips(const std::vector<StripSpec>& specs) {
 
   double loops_ms = 0;
   std::vector<LoopPath> paths;
+  // The field transversal_loop solved for `paths` as they stand, for the next solve
+  // of exactly them (the prefix's mask, or finish()); taken once.
+  std::optional<KnownField> known;
+  auto take_known = [&known] {
+    std::optional<KnownField> k = std::move(known);
+    known.reset();
+    return k;
+  };
   for (const DesignStrip& d : strips_) paths.push_back(d.path);
   // On failure keep a consistent state: the strips before the failing one,
   // fully derived (those were solved already, as the failing strip's mask),
@@ -193,7 +207,7 @@ void DesignState::set_strips(const std::vector<StripSpec>& specs) {
         mask = mask_;
       } else {
         try {
-          mask = mask_of(paths, solve(paths, nullptr).strips);
+          mask = mask_of(paths, solve(paths, nullptr, take_known()).strips);
         } catch (const Cancelled&) {
           throw_consistent(paths, loops_ms);
         } catch (const std::exception& e) {
@@ -205,25 +219,20 @@ void DesignState::set_strips(const std::vector<StripSpec>& specs) {
     if (!mask.empty()) session_->set_disabled(mask, true);
     StageTimings laps;
     Stopwatch clock(laps);
-    std::vector<Loop> found;
+    DesignStrip d;
+    d.spec = specs[i];
     try {
       if (specs[i].anchors.empty()) throw InputError("it has no anchor");
-      found = session_->loops(specs[i].anchors, 1);
+      std::vector<Loop> found = session_->loops(specs[i].anchors, 1);
       if (found.empty()) throw InputError("no loop can pass its anchors with the current constraints");
+      Transversal t = transversal_loop(specs[i], paths, std::move(found.front()));
+      d.loop = std::move(t.loop);
+      d.path = std::move(t.path);
+      known = std::move(t.field);
     } catch (const InputError& e) {
       fail(i, e.what());
     } catch (...) {
       // Cancelled (or worse): the same consistent prefix, the error as it was.
-      session_->clear_disabled();
-      strips_.resize(i);
-      paths.resize(i);
-      throw_consistent(paths, loops_ms);
-    }
-    DesignStrip d;
-    d.spec = specs[i];
-    try {
-      std::tie(d.loop, d.path) = transversal_loop(specs[i], paths, std::move(found.front()));
-    } catch (...) {
       session_->clear_disabled();
       strips_.resize(i);
       paths.resize(i);
@@ -236,7 +245,7 @@ void DesignState::set_strips(const std::vector<StripSpec>& specs) {
   }
   session_->clear_disabled();
   try {
-    finish(paths, loops_ms);
+    finish(paths, loops_ms, take_known());
   } catch (const Cancelled&) {
     // Cancelled inside the solve: no strip may stay without its extraction (a
     // reader of strip(i) would index an empty coverage), so back to no strips.
@@ -266,27 +275,34 @@ void DesignState::set_strips(const std::vector<StripSpec>& specs) {
 // passes the anchors under the larger mask, or when a meeting does not
 // involve the new loop (the new field made two earlier loops contradict).
 // The extra nodes are this strip's only: set_strips clears the session's
-// mask after each loop. Cost: one field and cut per round, only where the
-// first loop meets another; a few rounds at most.
-std::pair<Loop, LoopPath> DesignState::transversal_loop(const StripSpec& spec, const std::vector<LoopPath>& paths,
-                                                        Loop loop) {
+// mask after each loop. Cost: one cut per added strip, and one field and cut
+// per further round, only where the first loop meets another: the field of
+// the loop kept is handed to the next solve of the same loops (KnownField),
+// which does not solve it again.
+DesignState::Transversal DesignState::transversal_loop(const StripSpec& spec, const std::vector<LoopPath>& paths,
+                                                      Loop loop) {
   constexpr int kRounds = 4;
   const Surface& s = session_->surface();
-  std::vector<LoopPath> all = paths;
+  std::vector<LoopPath> all = paths;  // the earlier loops, then the one tried
   std::vector<std::vector<PathSegment>> segments;
   for (const LoopPath& p : paths) segments.push_back(p.segments);
   const Index fresh = static_cast<Index>(paths.size());
-  std::pair<Loop, LoopPath> best;
+  Transversal best;
   size_t best_meetings = std::numeric_limits<size_t>::max();
   for (int round = 0;; ++round) {
     all.push_back(loop_path(*session_, loop));
     segments.push_back(all.back().segments);
-    const std::vector<LoopMeeting> meetings =
-        contradicting_meetings(s, compute_cross_field(s, loop_constraints(segments), options_), all);
+    const auto start = std::chrono::steady_clock::now();
+    CrossField field = compute_cross_field(s, loop_constraints(segments), options_);
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    const std::vector<LoopMeeting> meetings = contradicting_meetings(s, field, all);
     LoopPath path = std::move(all.back());
     all.pop_back();
     segments.pop_back();
-    if (meetings.size() < best_meetings) best_meetings = meetings.size(), best = {loop, path};
+    if (meetings.size() < best_meetings) {
+      best_meetings = meetings.size();
+      best = {loop, path, {std::move(field), ms}};
+    }
     if (meetings.empty() || round == kRounds) break;
     std::vector<Index> nodes;
     const std::vector<Index>& starts = path.path.node_start;
@@ -317,7 +333,7 @@ std::pair<Loop, LoopPath> DesignState::transversal_loop(const StripSpec& spec, c
   return best;
 }
 
-void DesignState::finish(const std::vector<LoopPath>& paths, double loops_ms) {
+void DesignState::finish(const std::vector<LoopPath>& paths, double loops_ms, std::optional<KnownField> known) {
   timings_ = {};
   timings_.loops_ms = loops_ms;
   mask_.clear();
@@ -326,7 +342,7 @@ void DesignState::finish(const std::vector<LoopPath>& paths, double loops_ms) {
     param_ = {};
     return;
   }
-  Solved all = solve(paths, &timings_);
+  Solved all = solve(paths, &timings_, std::move(known));
   // Derived once per edit, not per query: every hover applies it.
   mask_ = mask_of(paths, all.strips);
   field_ = std::move(all.field);

@@ -34,6 +34,7 @@
 #include "stripweave/symmetry/symmetry.h"
 
 #include <memory>
+#include <optional>
 
 namespace stripweave {
 
@@ -129,15 +130,29 @@ class DesignState {
     Parameterization param;
     std::vector<Strip> strips;
   };
-  Solved solve(const std::vector<LoopPath>& paths, DesignTimings* timings) const;
+  // The cross field of a loop set, already solved (by transversal_loop) for the
+  // solve that follows it, with the time it took.
+  struct KnownField {
+    CrossField field;
+    double ms = 0;
+  };
+  // `known`, when given, is the field of exactly these paths: not solved again.
+  Solved solve(const std::vector<LoopPath>& paths, DesignTimings* timings,
+               std::optional<KnownField> known = std::nullopt) const;
   // Derive field, S and strips of the whole design (the loops are known).
-  void finish(const std::vector<LoopPath>& paths, double loops_ms);
+  void finish(const std::vector<LoopPath>& paths, double loops_ms, std::optional<KnownField> known = std::nullopt);
   // The union of the strips' incompatible nodes, sorted.
   std::vector<Index> mask_of(const std::vector<LoopPath>& paths, const std::vector<Strip>& strips) const;
   // The loop found for `spec` under the session's mask, searched again where
   // it meets an earlier loop (of `paths`) or itself too tangentially (see
-  // design_state.cpp); with its path.
-  std::pair<Loop, LoopPath> transversal_loop(const StripSpec& spec, const std::vector<LoopPath>& paths, Loop loop);
+  // design_state.cpp); with its path, and in `field` the cross field of
+  // `paths` and that loop (the next solve of exactly those paths reuses it).
+  struct Transversal {
+    Loop loop;
+    LoopPath path;
+    KnownField field;
+  };
+  Transversal transversal_loop(const StripSpec& spec, const std::vector<LoopPath>& paths, Loop loop);
 
   std::shared_ptr<LoopSession> session_;
   FieldOptions options_;

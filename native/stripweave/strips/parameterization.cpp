@@ -275,18 +275,29 @@ std::vector<LoopMeeting> meetings_of(const Surface& s, const CutGraph& cut, cons
 }
 
 // The coordinate across each loop segment: where the loop runs along the
-// combed field it is an isocurve of v, where it runs along f^perp of u.
-std::vector<std::vector<int>> loop_axes(const Surface& surface, const CrossField& field, const CutGraph& cut,
+// combed field (f, per triangle) it is an isocurve of v, where it runs along
+// f^perp of u (n: the triangles' unit normals).
+std::vector<std::vector<int>> loop_axes(const std::vector<Vec3>& f, const std::vector<Vec3>& n,
                                         const std::vector<LoopPath>& loops) {
   std::vector<std::vector<int>> axis(loops.size());
   for (size_t l = 0; l < loops.size(); ++l)
     for (const PathSegment& g : loops[l].segments) {
       const Index t = g.triangle;
-      const Vec3 f = combed_direction(surface, field, cut, t), n = unit_normal(surface.mesh, t);
-      const double along_u = std::abs(g.direction.dot(f)), along_v = std::abs(g.direction.dot(n.cross(f)));
+      const double along_u = std::abs(g.direction.dot(f[t])), along_v = std::abs(g.direction.dot(n[t].cross(f[t])));
       axis[l].push_back(along_u >= along_v ? 1 : 0);
     }
   return axis;
+}
+
+// Per triangle its unit normal (n) and combed field direction (f).
+void combed_frames(const Surface& surface, const CrossField& field, const CutGraph& cut, std::vector<Vec3>& f,
+                   std::vector<Vec3>& n) {
+  const Index F = surface.mesh.num_triangles();
+  f.resize(F), n.resize(F);
+  for (Index t = 0; t < F; ++t) {
+    n[t] = unit_normal(surface.mesh, t);
+    f[t] = combed_direction(surface, field, cut, t);
+  }
 }
 
 }  // namespace
@@ -296,7 +307,9 @@ Vec2 Transition::apply(const Vec2& p) const { return turn(p, r) + tr; }
 std::vector<LoopMeeting> contradicting_meetings(const Surface& surface, const CrossField& field,
                                                 const std::vector<LoopPath>& loops) {
   const CutGraph cut = cut_to_disk(surface, field);
-  return meetings_of(surface, cut, loops, loop_axes(surface, field, cut, loops));
+  std::vector<Vec3> f, n;
+  combed_frames(surface, field, cut, f, n);
+  return meetings_of(surface, cut, loops, loop_axes(f, n, loops));
 }
 
 std::vector<Index> vertex_elimination_order(const Surface& surface) {
@@ -327,16 +340,13 @@ Parameterization parameterize(const Surface& surface, const CrossField& field, c
 
   // --- (1, 2) Cut graph and combed field ---------------------------------------
   const CutGraph cut = cut_to_disk(surface, field);
-  std::vector<Vec3> f(F), n(F);
-  for (Index t = 0; t < F; ++t) {
-    n[t] = unit_normal(mesh, t);
-    f[t] = combed_direction(surface, field, cut, t);
-  }
+  std::vector<Vec3> f, n;
+  combed_frames(surface, field, cut, f, n);
   out.comb = cut.comb;
   out.on_cut = cut.on_cut;
   out.cut_ends = cut.cut_ends;
 
-  out.loop_axis = loop_axes(surface, field, cut, loops);
+  out.loop_axis = loop_axes(f, n, loops);
   if (const std::vector<LoopMeeting> m = meetings_of(surface, cut, loops, out.loop_axis); !m.empty())
     throw_meeting(surface, m.front());
   lap("cut and comb");

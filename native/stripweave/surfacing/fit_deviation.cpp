@@ -41,9 +41,7 @@ struct PatchMesh {
   double max_chord = 0;
 };
 
-// The samples: per patch a grid of `per_span` samples per span, spaced at most
-// `spacing`. The tessellation for nearest-point queries: a grid only as fine
-// as the chordal error asks (2 per span at least).
+// The triangles of the grids, each cut to at most cap x cap cells.
 size_t triangles_under_cap(const std::vector<PatchGrid>& grids, int cap) {
   size_t n = 0;
   for (const PatchGrid& g : grids) n += 2 * size_t(std::min(g.nu, cap)) * size_t(std::min(g.nv, cap));
@@ -67,6 +65,10 @@ void cap_tessellation(const std::vector<BSplinePatch>& patches, std::vector<Patc
   });
 }
 
+// The samples: per patch a grid of `per_span` samples per span, spaced at most
+// `spacing`. The tessellation for nearest-point queries: a grid only as fine
+// as the chordal error asks (2 per span at least), within max_triangles
+// (cap_tessellation).
 PatchMesh patch_mesh(const std::vector<BSplinePatch>& patches, double spacing, double chord, int per_span,
                      Index max_triangles, std::vector<PatchGrid>& grids) {
   const Index nP = static_cast<Index>(patches.size());

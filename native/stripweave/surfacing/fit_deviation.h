@@ -45,16 +45,19 @@
 //         per span the sampled maximum is within 8 % of the maximum between
 //         samples; at 4, within 29 %, so every bump that could top it is
 //         refined); RMS figures come from the 4 per span;
-//         The patch tessellation is capped at max_patch_triangles: a
+//         the source samples are spaced at most `spacing` (default: the
+//         solver mesh's mean edge, so one or two per solver triangle), which
+//         sizes the coverage's resolution.
+// Cap     The patch tessellation is capped at max_patch_triangles: a
 //         network whose patches ripple (a fit far off the source, folded)
 //         would otherwise need grids of 200 x 200 cells on every patch (a
 //         casting's 126 patches: 7M triangles, 1.5 GB of tree). Under the
 //         cap the patches that need the most cells are coarsened first (one
 //         cell count c bounds every patch's grid per direction, the largest
 //         c that fits); the chord they then have enters measurement_error.
-//         the source samples are spaced at most `spacing` (default: the
-//         solver mesh's mean edge, so one or two per solver triangle), which
-//         sizes the coverage's resolution.
+//         The grids are first made as the chord asks, then remade under the
+//         cap: repeated evaluation, and the uncapped grids are held together
+//         for a moment (without the tree, the larger part).
 // Threads Samples are measured side by side (core/parallel.h), each into its
 //         own slot, with per-thread B-rep copies; sums run in sample order,
 //         so the figures do not depend on the thread count.
