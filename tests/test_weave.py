@@ -18,7 +18,7 @@ import FreeCAD  # noqa: F401  (before Part)
 import Part
 
 import stripweave as sw
-from models import box, bumpy_sphere_mesh, filleted_box, key, torus, torus_knot_tube
+from models import box, bumpy_sphere_mesh, filleted_box, key, open_cylinder_shell, torus, torus_knot_tube
 from stripweave._native import native
 from stripweave.design import Design
 from stripweave.layout import compute_layout
@@ -180,6 +180,98 @@ def test_a_crease_region_is_seeded_across_its_crease(cube):
         assert abs(across[2]) < 0.05 and abs(across @ faces) < 0.05
         seed = _crease_seed(r)
         assert len(seed) == 6 and seed[3:] == list(across)
+
+
+def test_a_region_with_two_boundaries_is_seeded_along_its_shortest_bridge():
+    """A region with two boundary cycles becomes a disc only by a cut that joins them; its
+    bridge anchor is the middle of the shortest path between them, pointing along it. An open
+    tube (h = 20): halfway up, along the axis. A plate with a hole nearer one long side: on
+    the short gap between the hole and that side, across it. A region with one boundary (the
+    tube cut by a meridian, a disc) has none."""
+    tube = sw.from_shape(open_cylinder_shell(5.0, 20.0), target_triangles=6000)
+    (region,) = native.weave_assessment(DesignSession(tube, Design()).native, [], 1)["regions"]
+    (bridge,) = region["bridge_anchors"]
+    x, y, z, dx, dy, dz = bridge
+    assert math.hypot(x, y) == pytest.approx(5.0, abs=0.1) and z == pytest.approx(10.0, abs=0.5)
+    assert abs(dz) > 0.95
+
+    face = Part.makePlane(60, 20).cut(Part.Face(Part.Wire(Part.makeCircle(3.0, FreeCAD.Vector(20, 6, 0)))))
+    plate = sw.from_shape(face, target_triangles=6000)
+    (region,) = native.weave_assessment(DesignSession(plate, Design()).native, [], 1)["regions"]
+    (bridge,) = region["bridge_anchors"]
+    x, y, z, dx, dy, dz = bridge
+    assert x == pytest.approx(20.0, abs=0.6) and y == pytest.approx(1.5, abs=0.6)   # the gap is 0 < y < 3
+    assert abs(dy) > 0.9
+
+    design = Design()
+    design.add_strip([(5, 0, 10, 0, 0, 1)])
+    cut = native.weave_assessment(DesignSession(tube, design).native, [], 1)["regions"]
+    assert [r["disc"] for r in cut] == [True] and cut[0]["bridge_anchors"] == []
+
+
+def test_a_red_region_is_offered_both_families_of_loops():
+    """A 6 mm plate with two bored bosses: genus 2, one red region without border, whose seed
+    point lies on the plate's rim (farthest-point sampling from a vertex). The cheapest loop
+    through it runs around the rim and cuts off a disc, which no handle needs; the loop along
+    the other principal direction runs over the faces and through a bore. With one seed point
+    and one alternative the first pass finds no cut; looking harder (three points, two
+    alternatives) still offered only the cheapest loops, and the weave ended with no strip
+    at all. Looking harder now offers both families at each point."""
+    part = Part.makeBox(60, 30, 6)
+    for x in (15, 45):
+        part = part.fuse(Part.makeCylinder(7, 10, FreeCAD.Vector(x, 15, 6)))
+        part = part.cut(Part.makeCylinder(3.5, 16, FreeCAD.Vector(x, 15, 0)))
+    surface = sw.from_shape(part.removeSplitter(), target_triangles=12000)
+    ds = DesignSession(surface, Design())
+    result = auto_weave(ds, WeaveOptions(seeds_per_region=1, alternatives=1, max_strips=6, refine=False))
+    assert result.assessment["colours"]["red"] == 0
+    reasons = [e["reason"] for e in result.log]
+    assert reasons[0] == "red region" and reasons.count("red region") >= 2   # two handles
+
+
+def test_refinement_does_not_start_from_a_design_its_band_makes_invalid():
+    """A torus cut by a meridian and by the best loop through a point on the far side. Under
+    the paper's mask every meridian direction is refused (the first strip's isocurves cover
+    the torus), so that loop crosses the meridian: one disc. The band mask refinement works
+    under refuses them only near the first loop, and the far loop re-derives as a second
+    meridian: two annuli. Refinement must keep the paper's mask rather than go on from
+    there (a corpus block came out with two red regions after a valid weave)."""
+    from stripweave.weave import _refine_under_the_band, _Weaver
+    surface = sw.from_shape(torus(10.0, 3.0), target_triangles=8000)
+    design = Design()
+    design.add_strip([(13, 0, 0, 0, 0, 1)])
+    design.add_strip([(-13, 0, 0)])
+    ds = DesignSession(surface, design)
+    a = native.weave_assessment(ds.native, [], 1)
+    assert a["colours"]["red"] == 0
+    crossing = [loop.cost for loop in native.design_loops(ds.native)]
+    after = _refine_under_the_band(_Weaver(ds, WeaveOptions()), ds, WeaveOptions(), a)
+    assert after["colours"]["red"] == 0
+    assert ds.design.options["compatibility_band"] is None
+    assert [loop.cost for loop in native.design_loops(ds.native)] == pytest.approx(crossing)
+
+
+def test_red_regions_look_harder_before_other_colours_get_strips():
+    """The plate with two bored bosses, cut by a user's loop around the corner of its rim: one
+    red region (genus 2 with a boundary) and a crease region. With one seed point and one
+    alternative the red region's first pass runs out of points while the crease region still
+    has its own. Looking harder comes first (crease strips refine a layout that does not exist
+    yet, and each adds loops the red region's cut must cross transversally): every red strip
+    precedes the first crease strip. Before, a crease strip came between them."""
+    part = Part.makeBox(60, 30, 6)
+    for x in (15, 45):
+        part = part.fuse(Part.makeCylinder(7, 10, FreeCAD.Vector(x, 15, 6)))
+        part = part.cut(Part.makeCylinder(3.5, 16, FreeCAD.Vector(x, 15, 0)))
+    design = Design()
+    design.add_strip([(60.0, 28.125, 1.97)])
+    ds = DesignSession(sw.from_shape(part.removeSplitter(), target_triangles=12000), design)
+    start = native.weave_assessment(ds.native, [], 1)["colours"]
+    assert start["red"] == 1 and start["crease"] >= 1
+    result = auto_weave(ds, WeaveOptions(seeds_per_region=1, alternatives=1, max_strips=8, refine=False))
+    reasons = [e["reason"] for e in result.log]
+    assert result.assessment["colours"]["red"] == 0
+    last_red = max(i for i, r in enumerate(reasons) if r == "red region")
+    assert all(r == "red region" for r in reasons[:last_red + 1])
 
 
 def test_the_red_phase_does_not_spend_the_quality_budget():

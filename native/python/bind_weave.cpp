@@ -17,6 +17,9 @@
 //               seeds by layout/weave_seeds.h (the first is the centre);
 //               "crossing_anchors": [[x,y,z,dx,dy,dz], ...] across the arcs
 //               that have the region on both sides (weave_seeds.h);
+//               "bridge_anchors": [[x,y,z,dx,dy,dz], ...] along the
+//               seeds_per_region shortest bridges between its boundary pieces
+//               (weave_seeds.h);
 //               "excess_extrema", "crease_problem", and for a crease region
 //               "crease_seed" [x,y,z] (crease_structure.h: where a loop
 //               across the crease would resolve it) and "crease_seed_across"
@@ -57,6 +60,18 @@ std::vector<double> model_point(const Surface& s, const Vec3& p) {
   return {q.x(), q.y(), q.z()};
 }
 
+// Region r's directional anchors [x, y, z, dx, dy, dz] (model units; the similarity only scales).
+py::list anchors_of(const Surface& s, const std::vector<std::vector<CrossingAnchor>>& anchors, size_t r) {
+  py::list out;
+  if (r < anchors.size())
+    for (const CrossingAnchor& c : anchors[r]) {
+      std::vector<double> anchor = model_point(s, c.point);
+      anchor.insert(anchor.end(), {c.direction.x(), c.direction.y(), c.direction.z()});
+      out.append(anchor);
+    }
+  return out;
+}
+
 double model_length(const Surface& s, double x) { return std::isinf(x) ? -1.0 : x * s.similarity.scale; }
 
 }  // namespace
@@ -76,7 +91,7 @@ void bind_weave(py::module_& m) {
         LoopArrangement arrangement;
         Regions regions;
         std::vector<std::vector<SeedPoint>> seeds;
-        std::vector<std::vector<CrossingAnchor>> crossing;
+        std::vector<std::vector<CrossingAnchor>> crossing, bridges;
         UncoveredArea uncovered;
         double ms = 0;
         {
@@ -96,6 +111,7 @@ void bind_weave(py::module_& m) {
           if (seeds_per_region > 0) {
             seeds = region_seed_points(arrangement, regions, seeds_per_region);
             crossing = crossing_anchors(arrangement, regions);
+            bridges = bridge_anchors(arrangement, regions, seeds_per_region);
             uncovered = largest_uncovered_area(s, covered);
           }
           ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -134,14 +150,8 @@ void bind_weave(py::module_& m) {
             clear.append(model_length(s, p.clearance));
           }
           x["seeds"] = pts;
-          py::list cross;
-          if (r < crossing.size())
-            for (const CrossingAnchor& c : crossing[r]) {
-              std::vector<double> anchor = model_point(s, c.point);
-              anchor.insert(anchor.end(), {c.direction.x(), c.direction.y(), c.direction.z()});
-              cross.append(anchor);
-            }
-          x["crossing_anchors"] = cross;
+          x["crossing_anchors"] = anchors_of(s, crossing, r);
+          x["bridge_anchors"] = anchors_of(s, bridges, r);
           x["clearance"] = clear;
           list.append(x);
           const char* c = colour_name(g.colour);

@@ -246,9 +246,10 @@ def seeds_in_order(a, options, skip):
                 points = [_crease_seed(r)] + points
             if colour == "red":
                 # After the centre: across each loop that leaves the region on both sides (the
-                # cut that completes a handle's meridian), then the other seed points.
-                crossing = [c for c in r.get("crossing_anchors", []) if _key(c) not in skip]
-                points = points[:1] + crossing + points[1:]
+                # cut that completes a handle's meridian), along the shortest bridge between
+                # two of its boundaries (the cut an annulus needs), then the other seed points.
+                cuts = r.get("crossing_anchors", []) + r.get("bridge_anchors", [])
+                points = points[:1] + [c for c in cuts if _key(c) not in skip] + points[1:]
             if points:
                 out.append((f"{colour} region", i, colour, points))
     u = a["uncovered"]
@@ -300,6 +301,7 @@ class _Weaver:
         self.capped = 0             # loop queries stopped by query_polls
         self.capped_all_directions = False   # an all-directions query ran past query_polls (proposals)
         self.valid_at = None        # (work, seconds) when the design first had no red region
+        self.looking_harder = False  # red regions ran out of seed points once (_weave)
         self.user_strips = len(ds.design.strips)
         self.groups = {}            # index of an added strip -> 1 + its symmetric images, added after it
         self.image_tolerance = 0.0
@@ -410,7 +412,7 @@ class _Weaver:
             self.groups[index] = 1 + count
         return True
 
-    def proposals(self, point, alternatives):
+    def proposals(self, point, alternatives, both_families=False):
         """Loops through the point, best first.
 
         A seed point (no direction) gets the best loop over all directions, or, in the
@@ -426,13 +428,23 @@ class _Weaver:
         40 to 63 % of all query work, and weaving ended on its budget after 2 or 3 strips).
         Whether it closes within the cap is a property of the part's metric, not of the
         point, so "adaptive" (the default) turns to the principal order for the rest of the
-        weave at the first all-directions query that runs past the cap."""
+        weave at the first all-directions query that runs past the cap.
+
+        `both_families` (a red region's points, once its seed points ran out: _weave) adds the
+        loops along both principal directions to the all-directions one. A red region needs a
+        cut of its topology, a loop that does not separate it, and the cheapest loop through a point is a separating one wherever the
+        part is thin there: around a plate's rim, at every seed point of a plate with bosses
+        (each the farthest from the others, so on the rim). The two principal directions give
+        one loop of each family of good loops through the point (§5, criterion 1), and the
+        one across the rim runs over the faces and through a bore."""
         self.check_cancel()
         if len(point) != 3:
             return self._proposals(point, alternatives)
         order = self.options.seed_directions
         if order == "all" or (order == "adaptive" and not self.capped_all_directions):
             found = self._proposals(point, alternatives)
+            if found and both_families:
+                return _distinct(found + self._along_principal_directions(point))
             if found or not self.session.query_limited:
                 return found or self._along_principal_directions(point)
             self.capped_all_directions = True
@@ -481,7 +493,7 @@ class _Weaver:
         through it costs three times a belt over the faces and leaves a 180-degree corner)."""
         out = []
         for point in points:
-            for loop in self.proposals(point, alternatives):
+            for loop in self.proposals(point, alternatives, both_families=every_point and self.looking_harder):
                 a = self.assess([loop], seeds=False)
                 out.append((score(a), loop.cost, loop, point, a))
             if out and min(c[0] for c in out) < current and not every_point:
@@ -524,6 +536,12 @@ def _assessment_of(layout):
     for r in regions:
         colours[r["colour"]] += 1
     return {"regions": regions, "colours": colours, "valid": layout["valid"], "crossings": layout["crossings"]}
+
+
+def _distinct(loops):
+    """The loops without repeats (_loop_key), in their order."""
+    seen = set()
+    return [x for x in loops if not (_loop_key(x) in seen or seen.add(_loop_key(x)))]
 
 
 def _loop_key(loop):
@@ -691,6 +709,47 @@ def _less_conforming(after, before):
     return score(after)[:3] > score(before)[:3]
 
 
+def _refine_under_the_band(w, ds, options, a):
+    """Switch the design to the band mask refinement works under, and return the assessment
+    of the design then. Refinement splits patches by loops beside the ones there: the paper's
+    mask refuses every loop parallel to a strip anywhere on it, a band only near its loop.
+    Not earlier: with the band, the colour phase's best loops ran beside the first ones (a
+    filleted box stayed two lens patches), where the paper's mask leaves only the crossing
+    belt. An empty design only (the caller): a user's strips keep the mask they were drawn
+    under. design.json keeps the band, so the design re-derives the same.
+
+    Switching re-derives every strip under the new mask, and a strip's loop can then take
+    a path the paper's mask refused, beside an earlier loop: the layout the earlier phases
+    made valid can come back with red regions (a torus's crossing loop re-derived as a second
+    meridian; a corpus block with crossed bores: two annuli). The design
+    then keeps its own compatibility, as when the band refuses it outright (0088: "strip 2:
+    the direction of anchor 1 ... is disabled"), and refinement goes on under the paper's
+    mask: its loops can still split the patches, only not as close beside the strips."""
+    band = options.band * ds.surface.report()["bbox_diagonal"]
+    before = {k: ds.design.options.get(k) for k in ("compatibility_band", "compatibility_angle_deg")}
+    ds.design.options["compatibility_band"] = band
+    ds.native.compatibility_band = band
+    if options.refine_angle_deg != ds.design.options.get("compatibility_angle_deg", 45):
+        ds.design.options["compatibility_angle_deg"] = options.refine_angle_deg
+        ds.native.compatibility_angle = float(options.refine_angle_deg)
+    w.spend("derive", WORK_DERIVE)
+    try:
+        ds.update()
+        after = w.assess()
+        if score(after)[:2] <= score(a)[:2]:
+            return after
+        why = f"{after['colours']['red']} red regions under it"
+    except native.InputError as e:
+        why = str(e)
+    _say(options, f"  refinement keeps the paper's compatibility: the band refuses the design ({why})")
+    ds.design.options.update(before)
+    ds.native.compatibility_band = before["compatibility_band"]
+    ds.native.compatibility_angle = float(before["compatibility_angle_deg"] or 45)
+    w.spend("derive", WORK_DERIVE)
+    ds.update()
+    return w.assess()
+
+
 def _refine(w, ds, options, a, result, elapsed):
     """Past the paper's colours: a region can be fine by §4.2 and still give patches with
     corners far from 90 degrees (a cube-like layout wrapped on a cylinder). Add the best
@@ -699,34 +758,7 @@ def _refine(w, ds, options, a, result, elapsed):
     until the deviation or the patch target is reached or the work budget is spent (module
     doc)."""
     if options.band and ds.design.options.get("compatibility_band") is None and w.user_strips == 0:
-        # Refinement splits patches by loops beside the ones there: the paper's mask refuses
-        # every loop parallel to a strip anywhere on it, a band only near its loop. Not
-        # earlier: with the band, the colour phase's best loops ran beside the first ones
-        # (a filleted box stayed two lens patches), where the paper's mask leaves only the
-        # crossing belt. An empty design only: a user's strips keep the mask they were drawn
-        # under. design.json keeps the band, so the design re-derives the same.
-        band = options.band * ds.surface.report()["bbox_diagonal"]
-        before = {k: ds.design.options.get(k) for k in ("compatibility_band", "compatibility_angle_deg")}
-        ds.design.options["compatibility_band"] = band
-        ds.native.compatibility_band = band
-        if options.refine_angle_deg != ds.design.options.get("compatibility_angle_deg", 45):
-            ds.design.options["compatibility_angle_deg"] = options.refine_angle_deg
-            ds.native.compatibility_angle = float(options.refine_angle_deg)
-        w.spend("derive", WORK_DERIVE)
-        try:
-            ds.update()
-        except native.InputError as e:
-            # The wider angle can disable the direction of an earlier strip's anchor (0088:
-            # "strip 2: the direction of anchor 1 ... is disabled"): an internal refusal that
-            # must not reach the user (issue 18). Keep the design's own compatibility (the
-            # paper's mask) and refine under it: its loops can still split the patches, only
-            # not as close beside the strips there.
-            _say(options, f"  refinement keeps the paper's compatibility: the band refuses the design ({e})")
-            ds.design.options.update(before)
-            ds.native.compatibility_band = before["compatibility_band"]
-            ds.native.compatibility_angle = float(before["compatibility_angle_deg"] or 45)
-            ds.update()
-        a = w.assess()
+        a = _refine_under_the_band(w, ds, options, a)
     try:
         layout = w.layout()
     except ImportError:
@@ -1007,12 +1039,18 @@ def _weave(w, ds, options):
             # scans the colour seeds mostly give strips the real layout does not keep.
             result.stopped = "no seed helps"
             break
-        if not seeds and a["colours"]["red"] and not escalated:
-            # Invalid and out of ideas: look harder once (more seed points per region, more
-            # ranked alternatives), rather than end with no layout.
-            escalated = True
+        if a["colours"]["red"] and not escalated and not any(x[2] == "red" for x in seeds):
+            # Invalid and out of ideas for the red regions: look harder once (more seed points
+            # per region, more ranked alternatives, both families of loops at each point:
+            # proposals) before any strip goes to the other colours,
+            # rather than end with no layout. Crease and colour strips refine a layout that does
+            # not exist while a region is no disc, and each one adds loops the red region's
+            # cut must then cross transversally too: later red proposals only get harder.
+            escalated = w.looking_harder = True
             w.options = options = replace(options, seeds_per_region=3 * options.seeds_per_region,
                                           alternatives=2 * options.alternatives)
+            _say(options, f"red regions: no seed point left; looking harder ({options.seeds_per_region} "
+                          f"seed points a region, {options.alternatives} alternatives, both families of loops)")
             skip.clear()
             stalls = 0
             a = w.assess()

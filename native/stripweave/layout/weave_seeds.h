@@ -22,6 +22,23 @@
 //   that crosses it there and comes back around is the cut that makes the
 //   region a disc: the dual of the handle's other generator.
 //
+// bridge_anchors(arrangement, regions, count) -> per region, directional
+//   anchors at the middle of the shortest bridge between two of its boundary
+//   pieces (the connected sets of its border: loop and open-boundary edges),
+//   pointing along the bridge; one per pair of pieces a shortest bridge joins,
+//   the `count` shortest (the cheapest cuts: a range scan's region with thirty
+//   holes has some ninety such pairs, and each anchor costs the weave a loop
+//   query; the others come up once these cuts have changed the region); none
+//   for a region with one piece. A region with b >= 2 boundary
+//   cycles (an annulus between two loops around a boss, a plate's face around
+//   a bore) becomes a disc only by cuts that join its boundaries, b - 1 of
+//   them: no loop that stays inside it, however good, does. The shortest
+//   bridge meets both boundaries orthogonally, the direction a loop crossing
+//   them transversally (§6.2) takes, so the loop through its middle along it
+//   is the cut's natural proposal; the region's centre proposes the loop of
+//   its own best direction, which around a boss runs parallel to the
+//   boundaries and splits the annulus into two.
+//
 // largest_uncovered_area(surface, covered) -> the largest edge-connected
 //   set of surface triangles that no strip covers (`covered`: per strip, per
 //   triangle 0/1), its area, the uncovered area in all, and its point
@@ -50,6 +67,9 @@ struct CrossingAnchor {
 };
 
 std::vector<std::vector<CrossingAnchor>> crossing_anchors(const LoopArrangement& arrangement, const Regions& regions);
+
+std::vector<std::vector<CrossingAnchor>> bridge_anchors(const LoopArrangement& arrangement, const Regions& regions,
+                                                       int count);
 
 struct UncoveredArea {
   double area = 0;        // of the largest uncovered component (normalized units squared)
