@@ -1008,7 +1008,6 @@ def _weave(w, ds, options):
     a = w.assess()
     skip = set()          # seed points that gave nothing useful
     stalls = 0            # consecutive red-phase additions that did not lower the score
-    escalated = False     # looked harder once already
     user_strips = len(ds.design.strips)
 
     def elapsed():
@@ -1039,14 +1038,14 @@ def _weave(w, ds, options):
             # scans the colour seeds mostly give strips the real layout does not keep.
             result.stopped = "no seed helps"
             break
-        if a["colours"]["red"] and not escalated and not any(x[2] == "red" for x in seeds):
+        if a["colours"]["red"] and not w.looking_harder and not any(x[2] == "red" for x in seeds):
             # Invalid and out of ideas for the red regions: look harder once (more seed points
             # per region, more ranked alternatives, both families of loops at each point:
             # proposals) before any strip goes to the other colours,
             # rather than end with no layout. Crease and colour strips refine a layout that does
             # not exist while a region is no disc, and each one adds loops the red region's
             # cut must then cross transversally too: later red proposals only get harder.
-            escalated = w.looking_harder = True
+            w.looking_harder = True
             w.options = options = replace(options, seeds_per_region=3 * options.seeds_per_region,
                                           alternatives=2 * options.alternatives)
             _say(options, f"red regions: no seed point left; looking harder ({options.seeds_per_region} "

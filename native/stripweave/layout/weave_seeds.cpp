@@ -253,7 +253,10 @@ std::vector<std::vector<CrossingAnchor>> bridge_anchors(const LoopArrangement& A
     Index seen = kInvalid;
     for (Index t : topo.edge_triangles[e]) {
       const Index r = t == kInvalid ? kInvalid : G.triangle_region[t];
-      if (r == kInvalid || r == seen || G.regions[r].boundaries < 2) continue;
+      // Red regions only: a bridge is a cut that makes a region a disc, and only a red
+      // region's seeds (weave.py) ask for one.
+      if (r == kInvalid || r == seen || G.regions[r].boundaries < 2 || G.regions[r].colour != RegionColour::Red)
+        continue;
       seen = r;
       (A.separates(e) ? edges[r].border : edges[r].inner).push_back(e);
     }
