@@ -157,6 +157,58 @@ def test_two_rims_apart_in_one_region_are_parted_across_the_loop_between_them():
     assert_creases_on_edges(surface, L)
 
 
+def square_ring(R=30.0, a=8.0):
+    """A ring of square section a x a around the z axis (mean radius R): four crease circles."""
+    section = Part.makePolygon([Vector(R - a / 2, 0, -a / 2), Vector(R + a / 2, 0, -a / 2),
+                                Vector(R + a / 2, 0, a / 2), Vector(R - a / 2, 0, a / 2), Vector(R - a / 2, 0, -a / 2)])
+    return Part.Face(section).revolve(Vector(0, 0, 0), Vector(0, 0, 1), 360)
+
+
+def assert_seeded_mid_face_along_the_rims(r, R=30.0, a=8.0):
+    """The region's crease seed lies on its top or bottom face, halfway between the two rims,
+    and points around the axis: the loop there runs between the rims and parts them."""
+    x, y, z = r["crease_seed"]
+    assert abs(z) == pytest.approx(a / 2, abs=0.05) and math.hypot(x, y) == pytest.approx(R, abs=1.5)
+    across = np.asarray(r["crease_seed_across"])
+    radial = np.array([x, y, 0]) / math.hypot(x, y)
+    assert np.linalg.norm(across) == pytest.approx(1, abs=1e-6)
+    assert abs(across[2]) < 0.2 and abs(float(np.dot(across, radial))) < 0.2
+
+
+def test_a_crease_through_an_arc_with_its_region_on_both_sides_is_not_its_own_other_exit():
+    """A square-section ring cut by a meridian and by loops along the middle of its outer and
+    inner faces: two regions, the upper and the lower half, each a disc whose two sides of the
+    meridian's arc are its own. Both rims of the half leave across that arc, so the loop that
+    parts them crosses it between the rims: mid-face, around the axis. Each rim crosses the arc
+    at one vertex with a crease edge on either side, two exits at one vertex; taking those as
+    the pair to part put the seed on the rim, with no direction, where the best loop runs along
+    the rim and parts nothing."""
+    surface = sw.from_shape(square_ring(), target_triangles=12000)
+    band = 0.03 * surface.report()["bbox_diagonal"]   # the loops along the faces are parallel
+    ds = DesignSession(surface, Design([[(34, 0, 0, 0, 0, 1)], [(0, 34, 0, 1, 0, 0)], [(0, 26, 0, 1, 0, 0)]],
+                                       options={"compatibility_band": band}))
+    a = native.weave_assessment(ds.native, [], 1)
+    assert len(a["regions"]) == 2
+    for r in a["regions"]:
+        assert r["colour"] == "crease" and r["crease_problem"] == "crease crosses one arc twice"
+        assert_seeded_mid_face_along_the_rims(r)
+
+
+def test_crease_pieces_apart_are_parted_by_a_loop_across_the_bridge_between_them():
+    """Weaving a square-section ring: once loops around the section and along some faces are
+    in, a region holds two rims that neither meet in it nor leave across one arc ("crease
+    pieces apart"). The loop that parts them runs between them, through the middle of the
+    shortest bridge that joins them inside the region, across it. Seeded at a vertex of the
+    second rim instead, the loop ran along the rim, and the crease phase ended with that
+    region left."""
+    surface = sw.from_shape(square_ring(), target_triangles=12000)
+    ds = DesignSession(surface, Design())
+    result = auto_weave(ds, WeaveOptions(refine=False, max_strips=12))
+    assert result.assessment["colours"]["red"] == 0
+    assert result.assessment["colours"]["crease"] == 0
+    assert any(e["reason"] == "crease region" for e in result.log)
+
+
 def test_boss_on_a_plate_conforms_with_its_rims_on_primal_edges():
     """A cylinder boss on a plate: its top rim (convex) and base (concave) are crease circles,
     the plate's edges meet at corners. Belts over the boss, a loop round its side and belts

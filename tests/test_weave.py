@@ -16,6 +16,7 @@ import pytest
 
 import FreeCAD  # noqa: F401  (before Part)
 import Part
+from FreeCAD import Vector
 
 import stripweave as sw
 from models import box, bumpy_sphere_mesh, filleted_box, key, open_cylinder_shell, torus, torus_knot_tube
@@ -249,6 +250,50 @@ def test_refinement_does_not_start_from_a_design_its_band_makes_invalid():
     assert after["colours"]["red"] == 0
     assert ds.design.options["compatibility_band"] is None
     assert [loop.cost for loop in native.design_loops(ds.native)] == pytest.approx(crossing)
+
+
+def test_refinement_does_not_start_from_a_design_its_band_makes_less_clean():
+    """A ring of square section swept through 270 degrees: four faces along its creases and
+    two end caps. The crease phase ends clean: one loop around the section and two along
+    the faces put every crease between loops, on primal edges (6 patches). Re-derived under
+    the band mask refinement works in, those loops may run beside one another, which leaves
+    creases inside patches, and no refining strip may take a patch back over a crease: the
+    weave ended with 5 patches over creases. The switch must pass the test a refining strip
+    passes (no further from clean), else refinement keeps the paper's mask."""
+    from stripweave.weave import _layout
+    section = Part.makePolygon([Vector(26, 0, -4), Vector(34, 0, -4), Vector(34, 0, 4), Vector(26, 0, 4),
+                                Vector(26, 0, -4)])
+    ring = Part.Face(section).revolve(Vector(0, 0, 0), Vector(0, 0, 1), 270)
+    ds = DesignSession(sw.from_shape(ring, target_triangles=12000), Design())
+    result = auto_weave(ds, WeaveOptions(max_strips=12))
+    layout = _layout(ds)
+    assert result.assessment["colours"]["red"] == 0 and result.assessment["colours"]["crease"] == 0
+    assert layout["valid"] and layout["crease_conforming"]
+    assert layout["defects"]["creased_patches"] == 0
+    assert layout["clean"]
+    assert len(layout["patches"]) >= 6
+
+
+def test_an_open_duct_gets_a_loop_along_each_face():
+    """A duct of square section bent through 270 degrees, open at both ends: four faces, four
+    creases, each running from one open end to the other. Its crease-conforming layout has a
+    curve along each face, parallel to one another. Under the paper's mask, once a curve runs
+    along one face the curves along the others are refused (parallel to it everywhere), and the
+    weave ended at 2 strips with one patch over all four faces; the crease phase runs once
+    more under the band refinement works in, which refuses them only near it. There a region
+    holds two crease nodes on two creases that no crease path in it joins; its seed is the
+    middle of the shortest bridge between the two creases, across it (before: on one node,
+    with no direction, and the region stayed)."""
+    from stripweave.weave import _layout
+    section = Part.makePolygon([Vector(26, 0, -4), Vector(34, 0, -4), Vector(34, 0, 4), Vector(26, 0, 4),
+                                Vector(26, 0, -4)])
+    duct = Part.Shell(section.revolve(Vector(0, 0, 0), Vector(0, 0, 1), 270).Faces)
+    ds = DesignSession(sw.from_shape(duct, target_triangles=12000), Design())
+    result = auto_weave(ds, WeaveOptions(max_strips=12))
+    layout = _layout(ds)
+    assert result.assessment["colours"]["crease"] == 0
+    assert layout["valid"] and layout["crease_conforming"] and layout["clean"]
+    assert len(layout["patches"]) >= 4
 
 
 def test_red_regions_look_harder_before_other_colours_get_strips():

@@ -45,7 +45,10 @@ compatibility band (`band`), so that loops beside existing ones are allowed, and
 compatibility angle of refine_angle_deg (the paper's 45 lets a loop cross a strip at 45
 degrees, and such crossings are patch corners 45 degrees off; 60 measured: rocker-arm 16.6
 against 21.0 degrees, ec_soapbox-A 16.1 against 16.6, spot 27.9 either way, bumpy-cube 16.5
-against 15.3, where it stopped at fewer patches). It stops at
+against 15.3, where it stopped at fewer patches). The switch is kept only if the design
+is no further from valid and clean under it, and where crease regions remain the crease
+phase then runs once more under the band: the loops that part creases running side by
+side run beside the strips along them (_crease_phase_under_the_band). It stops at
 the deviation or patch target (no candidate that would pass refine_patches is taken), the
 work budget (past which only red regions are worked on, up to red_reserve budgets in all;
 the budget counts from the first valid design, so the work validity takes leaves the
@@ -724,8 +727,19 @@ def _refine_under_the_band(w, ds, options, a):
     meridian; a corpus block with crossed bores: two annuli). The design
     then keeps its own compatibility, as when the band refuses it outright (0088: "strip 2:
     the direction of anchor 1 ... is disabled"), and refinement goes on under the paper's
-    mask: its loops can still split the patches, only not as close beside the strips."""
+    mask: its loops can still split the patches, only not as close beside the strips.
+
+    Nor may the switch cost what the earlier phases reached in conformity and defects: the
+    same test a refining strip must pass (_less_clean) holds for the re-derived design. A
+    loop re-derived beside an earlier one leaves the crease that ran between them inside a
+    patch, and no later strip may take a patch back over a crease (a square-section ring
+    whose crease phase ended clean, 6 patches, came back from the band with 6 crease
+    regions, and refinement then only kept it there)."""
     band = options.band * ds.surface.report()["bbox_diagonal"]
+    try:
+        layout = w.layout()
+    except ImportError:
+        layout = None
     before = {k: ds.design.options.get(k) for k in ("compatibility_band", "compatibility_angle_deg")}
     ds.design.options["compatibility_band"] = band
     ds.native.compatibility_band = band
@@ -736,9 +750,12 @@ def _refine_under_the_band(w, ds, options, a):
     try:
         ds.update()
         after = w.assess()
-        if score(after)[:2] <= score(a)[:2]:
+        if score(after)[:2] > score(a)[:2]:
+            why = f"{after['colours']['red']} red regions under it"
+        elif layout is not None and _less_clean(w.layout(), after, layout, a):
+            why = "its layout is further from clean"
+        else:
             return after
-        why = f"{after['colours']['red']} red regions under it"
     except native.InputError as e:
         why = str(e)
     _say(options, f"  refinement keeps the paper's compatibility: the band refuses the design ({why})")
@@ -750,6 +767,20 @@ def _refine_under_the_band(w, ds, options, a):
     return w.assess()
 
 
+def _crease_phase_under_the_band(w, ds, options, result, elapsed):
+    """The crease phase once more, under the band mask (_refine_under_the_band), before
+    refinement: the loop that parts two creases running side by side runs beside them, so
+    parallel to every strip that runs along them, which the paper's mask refuses anywhere on
+    such a strip and the band only near it (a duct of rectangular section: once a loop runs
+    along one face, the loops along the others are refused, and the layout stays one patch
+    over all four faces, 18 units of crease excess; under the band the loop along the next
+    face takes it to 12). Returns the assessment after it; its strips join the log."""
+    _say(options, "crease regions remain: their seeds once more, under the band")
+    again = _weave(w, ds, replace(options, colours=("crease",), refine=False), start=time.perf_counter() - elapsed())
+    result.log.extend(again.log)
+    return again.assessment
+
+
 def _refine(w, ds, options, a, result, elapsed):
     """Past the paper's colours: a region can be fine by §4.2 and still give patches with
     corners far from 90 degrees (a cube-like layout wrapped on a cylinder). Add the best
@@ -759,6 +790,8 @@ def _refine(w, ds, options, a, result, elapsed):
     doc)."""
     if options.band and ds.design.options.get("compatibility_band") is None and w.user_strips == 0:
         a = _refine_under_the_band(w, ds, options, a)
+        if ds.design.options.get("compatibility_band") is not None and a["colours"]["crease"]:
+            a = _crease_phase_under_the_band(w, ds, options, result, elapsed)
     try:
         layout = w.layout()
     except ImportError:
@@ -1002,13 +1035,14 @@ def auto_weave(ds, options=None):
         w.session.set_threads(threads)
 
 
-def _weave(w, ds, options):
-    start = time.perf_counter()
+def _weave(w, ds, options, start=None):
+    """The colour phases (red, crease, orange, yellow: seeds_in_order), then refinement;
+    `start`: the weave's start time (perf_counter) when this is a later pass of one weave."""
+    start = time.perf_counter() if start is None else start
     result = WeaveResult()
     a = w.assess()
     skip = set()          # seed points that gave nothing useful
     stalls = 0            # consecutive red-phase additions that did not lower the score
-    user_strips = len(ds.design.strips)
 
     def elapsed():
         return time.perf_counter() - start
@@ -1128,8 +1162,8 @@ def _weave(w, ds, options):
     result.assessment = a
     result.time_ms = elapsed() * 1000.0
     result.work, result.cancelled_queries, result.capped_queries = w.work, w.cancelled, w.capped
-    _say(options, f"{result.stopped}: {len(ds.design.strips)} strips ({user_strips} given, "
-                  f"{len(result.log)} added), red {a['colours']['red']}, crease {a['colours']['crease']}, "
+    _say(options, f"{result.stopped}: {len(ds.design.strips)} strips ({w.user_strips} given, "
+                  f"{len(ds.design.strips) - w.user_strips} added), red {a['colours']['red']}, crease {a['colours']['crease']}, "
                   f"orange {a['colours']['orange']}, "
                   f"yellow {a['colours']['yellow']}, work {w.work:g} ("
                   + ", ".join(f"{k} {v:.0f}" for k, v in sorted(w.spent.items(), key=lambda kv: -kv[1]))

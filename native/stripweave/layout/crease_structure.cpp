@@ -1,6 +1,8 @@
 // The crease structure of the regions (see the header).
 #include "stripweave/layout/crease_structure.h"
 
+#include "stripweave/layout/region_bridges.h"
+
 #include <algorithm>
 #include <numeric>
 #include <unordered_map>
@@ -43,6 +45,7 @@ struct Analysis {
   std::vector<Index> arc_of;
   std::vector<std::uint8_t> node_vertex, on_boundary;
   std::vector<std::vector<Index>> region_edges;  // per region, its crease edges off the loops
+  std::vector<Index> apart;  // regions to split between crease pieces (split_between_pieces)
 
   Analysis(const LoopArrangement& a, const std::vector<Index>& tr, CreaseStructure& o, Index nr)
       : A(a), triangle_region(tr), out(o), arc_of(vertex_arcs(a)), region_edges(nr) {
@@ -124,7 +127,15 @@ struct Analysis {
     if (rc.problem == CreaseProblem::TwoNodes) other_end = rc.problem_vertex;
     if (twice != exits.end()) {
       flag(r, CreaseProblem::SameArc, twice->second, repeated);
-      if (rc.problem == CreaseProblem::SameArc) other_end = (twice + 1)->second;
+      // The other exit across that arc: the first at another vertex. A crease
+      // through an arc with the region on both sides leaves across it twice at
+      // one vertex (one crease edge on each side), and no loop parts a vertex
+      // from itself.
+      const auto other = std::find_if(twice + 1, exits.end(), [&](const auto& x) {
+        return x.first == twice->first && x.second != twice->second;
+      });
+      if (rc.problem == CreaseProblem::SameArc && other != exits.end())
+        other_end = other->second;
     }
     if (components > 1) {
       Index apart = vertices[0];
@@ -142,9 +153,31 @@ struct Analysis {
           from != kInvalid && other_end != kInvalid ? middle_of_path(edges, from, other_end, rc.split_across) : kInvalid;
       if (rc.split_vertex == kInvalid && rc.problem == CreaseProblem::SameArc)
         rc.split_vertex = middle_of_arc(twice->first, from, other_end, rc.split_across);
-      if (rc.split_vertex == kInvalid) rc.split_vertex = rc.problem_vertex;
+      if (rc.split_vertex == kInvalid) {
+        rc.split_vertex = rc.problem_vertex;
+        // No crease path or arc joins the pair (two nodes on two creases): part
+        // the pieces instead (split_between_pieces, once every region is analysed).
+        if (components > 1) apart.push_back(r);
+      }
     }
     for (Index v : vertices) degree[v] = 0;
+  }
+
+  // Crease pieces apart in one region (the two rims of a face between the
+  // same loops), or two nodes no crease path in it joins: the loop that parts
+  // them runs between the pieces, so the split is
+  // the middle of the shortest bridge joining two pieces inside the region
+  // (region_bridges.h), and the direction across the bridge there, along the
+  // pieces. A vertex of the second piece instead put the seed on a crease,
+  // whose best loop runs along it: it parts nothing and leaves the crease
+  // on no primal edge. `inner`: per region, its edges off the loops.
+  void split_between_pieces(Index r, const std::vector<Index>& inner) {
+    RegionCreases& rc = out.regions[r];
+    const std::vector<Bridge> bridges = shortest_bridges(A, {region_edges[r], inner});
+    if (bridges.empty() || bridges.front().path.size() < 2) return;
+    Vec3 across = Vec3::Zero();
+    const Index v = halfway(bridges.front().path, across);
+    if (across.norm() > 0) rc.split_vertex = v, rc.split_across = across;
   }
 
   // The vertex halfway (by length) along the crease path from a to b over
@@ -252,6 +285,16 @@ CreaseStructure crease_structure(const Surface& s, const LoopArrangement& A, con
     if (A.topology.is_boundary_edge(e)) touches[triangle_region[A.topology.edge_triangles[e][0]]] = 1;
   std::vector<Index> degree(A.mesh.num_vertices(), 0), parent(A.mesh.num_vertices(), kInvalid);
   for (Index r = 0; r < num_regions; ++r) analysis.analyse(r, touches[r], degree, parent);
+  std::vector<std::uint8_t> apart(num_regions, 0);
+  for (Index r : analysis.apart) apart[r] = 1;
+  std::vector<std::vector<Index>> inner(num_regions);
+  for (Index e = 0; e < A.topology.num_edges(); ++e) {
+    if (A.separates(e)) continue;
+    const Index t = A.topology.edge_triangles[e][0];
+    const Index r = t == kInvalid ? kInvalid : triangle_region[t];
+    if (r != kInvalid && apart[r]) inner[r].push_back(e);
+  }
+  for (Index r : analysis.apart) analysis.split_between_pieces(r, inner[r]);
   for (Index& x : out.arc_exit)
     if (x == Analysis::kNoExit) x = kInvalid;
   return out;

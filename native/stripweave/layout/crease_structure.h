@@ -67,11 +67,13 @@ struct RegionCreases {
   Index problem_vertex = kInvalid;  // a refined vertex where the problem shows (for locations)
   // Where a loop would resolve the problem: the middle (by length) of the
   // crease path between the two nodes, or between the two exits across one
-  // arc; a vertex of the second piece of crease; else problem_vertex.
+  // arc; for pieces apart, the middle of the shortest bridge between two of
+  // them inside the region (region_bridges.h); else problem_vertex.
   Index split_vertex = kInvalid;
-  // The direction across the crease there (unit, normalized frame; zero when
-  // the split is not on a crease path between two nodes or exits): the
-  // loop that resolves the region leaves split_vertex this way.
+  // The direction across that path there (unit, normalized frame; zero when
+  // the split is on no such path): the loop that resolves the region leaves
+  // split_vertex this way (across a crease path it parts the two nodes;
+  // across a bridge it runs between the two pieces).
   Vec3 split_across = Vec3::Zero();
   // How far the region is from carrying its creases, in one count that every
   // separating loop lowers: nodes beyond one, crease pieces beyond one, exits

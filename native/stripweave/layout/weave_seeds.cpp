@@ -1,12 +1,12 @@
 // Seed points for automatic weaving: see weave_seeds.h.
 #include "stripweave/layout/weave_seeds.h"
 
+#include "stripweave/layout/region_bridges.h"
+
 #include <algorithm>
 #include <functional>
-#include <map>
 #include <numeric>
 #include <queue>
-#include <unordered_map>
 
 namespace stripweave {
 
@@ -85,102 +85,6 @@ std::vector<SeedPoint> sample(const TriangleMesh& mesh, const Adjacency& topo, s
 }
 
 
-// One region's refined edges: on its border (a loop or the open boundary) and
-// inside it.
-struct RegionEdges {
-  std::vector<Index> border, inner;
-};
-
-Index root_of(std::vector<Index>& parent, Index v) {
-  while (parent[v] != v) v = parent[v] = parent[parent[v]];
-  return v;
-}
-
-// A shortest path between two border pieces of one region: it leaves the
-// piece of `from` at its first vertex and reaches another at its last.
-struct Bridge {
-  double length = 0;
-  std::vector<Index> path;  // refined vertices
-};
-
-// The region's vertices, numbered locally, with its inner edges as adjacency.
-struct RegionGraph {
-  std::vector<Index> vertex;                                  // local -> refined vertex
-  std::unordered_map<Index, Index> local;                     // refined vertex -> local
-  std::vector<std::vector<std::pair<Index, double>>> inner;   // per local vertex
-  std::vector<Index> piece;                                   // per local vertex: its border piece, or kInvalid
-
-  Index id(Index v) {
-    const auto [it, fresh] = local.emplace(v, static_cast<Index>(vertex.size()));
-    if (fresh) vertex.push_back(v);
-    return it->second;
-  }
-};
-
-RegionGraph region_graph(const LoopArrangement& A, const RegionEdges& E) {
-  RegionGraph g;
-  std::vector<Index> parent;
-  for (Index e : E.border) {
-    const Index a = g.id(A.topology.edges[e][0]), b = g.id(A.topology.edges[e][1]);
-    while (parent.size() < g.vertex.size()) parent.push_back(static_cast<Index>(parent.size()));
-    parent[root_of(parent, a)] = root_of(parent, b);
-  }
-  const size_t on_border = g.vertex.size();
-  for (Index e : E.inner) g.id(A.topology.edges[e][0]), g.id(A.topology.edges[e][1]);
-  g.inner.resize(g.vertex.size());
-  g.piece.assign(g.vertex.size(), kInvalid);
-  for (size_t v = 0; v < on_border; ++v) g.piece[v] = root_of(parent, static_cast<Index>(v));
-  for (Index e : E.inner) {
-    const Index a = g.local[A.topology.edges[e][0]], b = g.local[A.topology.edges[e][1]];
-    const double w = (A.mesh.positions[g.vertex[a]] - A.mesh.positions[g.vertex[b]]).norm();
-    g.inner[a].push_back({b, w});
-    g.inner[b].push_back({a, w});
-  }
-  return g;
-}
-
-// The shortest bridge of each pair of pieces that some shortest bridge joins,
-// shortest first: a Dijkstra from the whole border at once, each vertex
-// labelled with the piece it is nearest to; an inner edge whose ends carry
-// two labels closes a bridge between those pieces.
-std::vector<Bridge> shortest_bridges(const LoopArrangement& A, const RegionGraph& g) {
-  const size_t n = g.vertex.size();
-  std::vector<double> d(n, kInf);
-  std::vector<Index> label(n, kInvalid), pred(n, kInvalid);
-  using Item = std::pair<double, Index>;
-  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
-  for (size_t v = 0; v < n; ++v)
-    if (g.piece[v] != kInvalid) d[v] = 0, label[v] = g.piece[v], queue.push({0.0, static_cast<Index>(v)});
-  while (!queue.empty()) {
-    const auto [dv, v] = queue.top();
-    queue.pop();
-    if (dv > d[v]) continue;
-    for (const auto& [w, len] : g.inner[v])
-      if (dv + len < d[w]) d[w] = dv + len, label[w] = label[v], pred[w] = v, queue.push({d[w], w});
-  }
-  std::map<std::pair<Index, Index>, std::tuple<double, Index, Index>> best;   // pieces -> (length, ends)
-  for (size_t v = 0; v < n; ++v)
-    for (const auto& [w, len] : g.inner[v]) {
-      if (label[v] == kInvalid || label[w] == kInvalid || label[v] >= label[w]) continue;
-      const double length = d[v] + len + d[w];
-      const auto key = std::make_pair(label[v], label[w]);
-      const auto it = best.find(key);
-      if (it == best.end() || length < std::get<0>(it->second))
-        best[key] = {length, static_cast<Index>(v), w};
-    }
-  std::vector<Bridge> out;
-  for (const auto& [pieces, found] : best) {
-    const auto& [length, v, w] = found;
-    Bridge b{length, {}};
-    for (Index x = v; x != kInvalid; x = pred[x]) b.path.push_back(g.vertex[x]);
-    std::reverse(b.path.begin(), b.path.end());
-    for (Index x = w; x != kInvalid; x = pred[x]) b.path.push_back(g.vertex[x]);
-    out.push_back(std::move(b));
-  }
-  std::stable_sort(out.begin(), out.end(), [](const Bridge& a, const Bridge& b) { return a.length < b.length; });
-  return out;
-}
-
 // The point halfway along the bridge and the bridge's direction there (over
 // up to three edges, smoothing the mesh-edge path's zigzag).
 CrossingAnchor middle_of(const TriangleMesh& mesh, const Bridge& b) {
@@ -258,13 +162,13 @@ std::vector<std::vector<CrossingAnchor>> bridge_anchors(const LoopArrangement& A
       if (r == kInvalid || r == seen || G.regions[r].boundaries < 2 || G.regions[r].colour != RegionColour::Red)
         continue;
       seen = r;
-      (A.separates(e) ? edges[r].border : edges[r].inner).push_back(e);
+      (A.separates(e) ? edges[r].pieces : edges[r].inner).push_back(e);
     }
   }
   std::vector<std::vector<CrossingAnchor>> out(G.regions.size());
   for (size_t r = 0; r < edges.size(); ++r) {
-    if (edges[r].border.empty()) continue;
-    for (const Bridge& b : shortest_bridges(A, region_graph(A, edges[r])))
+    if (edges[r].pieces.empty()) continue;
+    for (const Bridge& b : shortest_bridges(A, edges[r]))
       if (b.path.size() >= 2 && b.length > 0 && static_cast<int>(out[r].size()) < count)
         out[r].push_back(middle_of(A.mesh, b));
   }

@@ -3,14 +3,15 @@
 //
 // dense_samples(spacing, chord)
 //   BRepMesh (edges at a linear deflection of 2 * chord, the interior at 16
-//   * chord) gives each face triangles with (u, v) nodes. Each triangle is subdivided n x n in its (u, v) (n
-//   from its longest 3D edge over `spacing`), every sub-triangle vertex
+//   * chord) gives each face triangles with (u, v) nodes. Each triangle is
+//   subdivided n x n in its (u, v) (n from 1), every sub-triangle vertex
 //   evaluated on the face's surface; where a sub-triangle's centroid (the
 //   exact point at its centroid's (u, v) against the flat centroid) lies
 //   more than `chord` off, n grows by the square-root law of the chordal
-//   error (error ~ h^2) and the triangle is done again. The samples are the
-//   exact points at the sub-triangles' centroids, weighted by the
-//   sub-triangles' areas. Faces are sampled side by side (one adaptor per
+//   error (error ~ h^2) and the triangle is done again. That fine mesh
+//   gives the triangle's area; the samples, about `spacing` apart, are exact
+//   points at the centroids of its longest-edge bisection (add_samples),
+//   their weights summing to that area. Faces are sampled side by side (one adaptor per
 //   face, made in the thread that samples it) and concatenated in face
 //   order, so the result does not depend on the thread count.
 //   A face BRepMesh leaves empty is meshed again on its own at other
@@ -156,7 +157,6 @@ FaceSamples sample_face(const TopoDS_Face& face, Index f, double spacing, double
       uv[k] = Vec2(q.X(), q.Y());
       x[k] = value_at(surface, uv[k]);
     }
-    const double longest = std::max({(x[1] - x[0]).norm(), (x[2] - x[1]).norm(), (x[0] - x[2]).norm()});
     // The tessellation: as fine as `chord` asks.
     int n = 1;
     Subdivided d = subdivide(surface, uv, n);
