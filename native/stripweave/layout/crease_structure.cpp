@@ -45,7 +45,7 @@ struct Analysis {
   std::vector<Index> arc_of;
   std::vector<std::uint8_t> node_vertex, on_boundary;
   std::vector<std::vector<Index>> region_edges;  // per region, its crease edges off the loops
-  std::vector<Index> apart;  // regions to split between crease pieces (split_between_pieces)
+  std::vector<Index> to_part;  // regions whose split waits for split_between_pieces
 
   Analysis(const LoopArrangement& a, const std::vector<Index>& tr, CreaseStructure& o, Index nr)
       : A(a), triangle_region(tr), out(o), arc_of(vertex_arcs(a)), region_edges(nr) {
@@ -157,7 +157,7 @@ struct Analysis {
         rc.split_vertex = rc.problem_vertex;
         // No crease path or arc joins the pair (two nodes on two creases): part
         // the pieces instead (split_between_pieces, once every region is analysed).
-        if (components > 1) apart.push_back(r);
+        if (components > 1) to_part.push_back(r);
       }
     }
     for (Index v : vertices) degree[v] = 0;
@@ -165,12 +165,12 @@ struct Analysis {
 
   // Crease pieces apart in one region (the two rims of a face between the
   // same loops), or two nodes no crease path in it joins: the loop that parts
-  // them runs between the pieces, so the split is
-  // the middle of the shortest bridge joining two pieces inside the region
-  // (region_bridges.h), and the direction across the bridge there, along the
-  // pieces. A vertex of the second piece instead put the seed on a crease,
-  // whose best loop runs along it: it parts nothing and leaves the crease
-  // on no primal edge. `inner`: per region, its edges off the loops.
+  // them runs between the pieces, so the split is the middle of the shortest
+  // bridge joining two pieces inside the region (region_bridges.h), and the
+  // direction across the bridge there, along the pieces. A vertex of the
+  // second piece instead put the seed on a crease, whose best loop runs along
+  // it: it parts nothing and leaves the crease on no primal edge. `inner`:
+  // the region's edges off the loops.
   void split_between_pieces(Index r, const std::vector<Index>& inner) {
     RegionCreases& rc = out.regions[r];
     const std::vector<Bridge> bridges = shortest_bridges(A, {region_edges[r], inner});
@@ -285,16 +285,18 @@ CreaseStructure crease_structure(const Surface& s, const LoopArrangement& A, con
     if (A.topology.is_boundary_edge(e)) touches[triangle_region[A.topology.edge_triangles[e][0]]] = 1;
   std::vector<Index> degree(A.mesh.num_vertices(), 0), parent(A.mesh.num_vertices(), kInvalid);
   for (Index r = 0; r < num_regions; ++r) analysis.analyse(r, touches[r], degree, parent);
-  std::vector<std::uint8_t> apart(num_regions, 0);
-  for (Index r : analysis.apart) apart[r] = 1;
+  // The regions whose split is a bridge between crease pieces: their inner
+  // edges, in one pass over the edges.
+  std::vector<std::uint8_t> to_part(num_regions, 0);
+  for (Index r : analysis.to_part) to_part[r] = 1;
   std::vector<std::vector<Index>> inner(num_regions);
   for (Index e = 0; e < A.topology.num_edges(); ++e) {
     if (A.separates(e)) continue;
     const Index t = A.topology.edge_triangles[e][0];
     const Index r = t == kInvalid ? kInvalid : triangle_region[t];
-    if (r != kInvalid && apart[r]) inner[r].push_back(e);
+    if (r != kInvalid && to_part[r]) inner[r].push_back(e);
   }
-  for (Index r : analysis.apart) analysis.split_between_pieces(r, inner[r]);
+  for (Index r : analysis.to_part) analysis.split_between_pieces(r, inner[r]);
   for (Index& x : out.arc_exit)
     if (x == Analysis::kNoExit) x = kInvalid;
   return out;

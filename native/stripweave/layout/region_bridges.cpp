@@ -55,30 +55,42 @@ RegionGraph region_graph(const LoopArrangement& A, const RegionEdges& E) {
   return g;
 }
 
+// Per local vertex: the distance to the nearest piece, that piece's label
+// and the vertex before it on the way there (one Dijkstra from all pieces).
+struct NearestPiece {
+  std::vector<double> d;
+  std::vector<Index> label, pred;
+};
+
+NearestPiece nearest_pieces(const RegionGraph& g) {
+  const size_t n = g.vertex.size();
+  NearestPiece p{std::vector<double>(n, kInf), std::vector<Index>(n, kInvalid), std::vector<Index>(n, kInvalid)};
+  using Item = std::pair<double, Index>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+  for (size_t v = 0; v < n; ++v)
+    if (g.piece[v] != kInvalid) p.d[v] = 0, p.label[v] = g.piece[v], queue.push({0.0, static_cast<Index>(v)});
+  while (!queue.empty()) {
+    const auto [dv, v] = queue.top();
+    queue.pop();
+    if (dv > p.d[v]) continue;
+    for (const auto& [w, len] : g.inner[v])
+      if (dv + len < p.d[w]) p.d[w] = dv + len, p.label[w] = p.label[v], p.pred[w] = v, queue.push({p.d[w], w});
+  }
+  return p;
+}
+
 }  // namespace
 
 std::vector<Bridge> shortest_bridges(const LoopArrangement& A, const RegionEdges& edges) {
   const RegionGraph g = region_graph(A, edges);
-  const size_t n = g.vertex.size();
-  std::vector<double> d(n, kInf);
-  std::vector<Index> label(n, kInvalid), pred(n, kInvalid);
-  using Item = std::pair<double, Index>;
-  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
-  for (size_t v = 0; v < n; ++v)
-    if (g.piece[v] != kInvalid) d[v] = 0, label[v] = g.piece[v], queue.push({0.0, static_cast<Index>(v)});
-  while (!queue.empty()) {
-    const auto [dv, v] = queue.top();
-    queue.pop();
-    if (dv > d[v]) continue;
-    for (const auto& [w, len] : g.inner[v])
-      if (dv + len < d[w]) d[w] = dv + len, label[w] = label[v], pred[w] = v, queue.push({d[w], w});
-  }
+  const NearestPiece p = nearest_pieces(g);
+  // Per pair of pieces, the inner edge that closes the shortest bridge.
   std::map<std::pair<Index, Index>, std::tuple<double, Index, Index>> best;   // pieces -> (length, ends)
-  for (size_t v = 0; v < n; ++v)
+  for (size_t v = 0; v < g.vertex.size(); ++v)
     for (const auto& [w, len] : g.inner[v]) {
-      if (label[v] == kInvalid || label[w] == kInvalid || label[v] >= label[w]) continue;
-      const double length = d[v] + len + d[w];
-      const auto key = std::make_pair(label[v], label[w]);
+      if (p.label[v] == kInvalid || p.label[w] == kInvalid || p.label[v] >= p.label[w]) continue;
+      const double length = p.d[v] + len + p.d[w];
+      const auto key = std::make_pair(p.label[v], p.label[w]);
       const auto it = best.find(key);
       if (it == best.end() || length < std::get<0>(it->second))
         best[key] = {length, static_cast<Index>(v), w};
@@ -87,9 +99,9 @@ std::vector<Bridge> shortest_bridges(const LoopArrangement& A, const RegionEdges
   for (const auto& [pieces, found] : best) {
     const auto& [length, v, w] = found;
     Bridge b{length, {}};
-    for (Index x = v; x != kInvalid; x = pred[x]) b.path.push_back(g.vertex[x]);
+    for (Index x = v; x != kInvalid; x = p.pred[x]) b.path.push_back(g.vertex[x]);
     std::reverse(b.path.begin(), b.path.end());
-    for (Index x = w; x != kInvalid; x = pred[x]) b.path.push_back(g.vertex[x]);
+    for (Index x = w; x != kInvalid; x = p.pred[x]) b.path.push_back(g.vertex[x]);
     out.push_back(std::move(b));
   }
   std::stable_sort(out.begin(), out.end(), [](const Bridge& a, const Bridge& b) { return a.length < b.length; });
