@@ -465,3 +465,22 @@ def test_open_curves_end_on_a_zigzag_boundary():
     assert not loop["closed"]
     p = np.asarray(loop["points"])
     assert sorted((p[0, 2], p[-1, 2])) == [pytest.approx(0, abs=1e-9), pytest.approx(20, abs=0.41)]
+
+
+def test_an_open_curve_meets_the_boundary_across_it_not_along_it():
+    """A plate (an open face) with four round holes, queried at points on the holes' rims. An
+    open curve ends at the boundary (§5.7), meeting it orthogonally: a g' node along the rim,
+    both its ends on it, is no end. Before, such a node closed a "curve" of that node alone
+    at cost 0, cheaper than any real loop, so every query near a rim returned one (a range
+    scan's holes took 12 of its 18 strips, each clipping a corner of a hole)."""
+    import FreeCAD  # noqa: F401  (before Part)
+    import Part
+    plate = Part.makePlane(60, 30)
+    for x in (12, 24, 36, 48):
+        plate = plate.cut(Part.Face(Part.Wire(Part.makeCircle(3.0, FreeCAD.Vector(x, 15, 0)))))
+    session = LoopSession(sw.from_shape(plate, target_triangles=8000))
+    for x in (12, 36):
+        for a in (0.0, 1.3, 2.9, 4.4):
+            loop = session.best_loop((x + 3.0 * math.cos(a), 15 + 3.0 * math.sin(a), 0.0))
+            assert loop["cost"] > 0
+            assert loop["length"] > 3.0      # it crosses the plate, not a corner of the rim

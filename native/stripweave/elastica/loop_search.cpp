@@ -38,6 +38,24 @@ void append_chain(std::vector<Index>& chain, const std::vector<Index>& piece) {
 
 }  // namespace
 
+// The g' nodes that may end an open curve: those arriving at an allowed
+// boundary vertex across the boundary, nearer its normal than its tangent.
+// A curve meets the open boundary orthogonally (§5.7); a node along the
+// boundary, both its ends on it, closed a "curve" of that node alone at no
+// cost, which the search prefers to every real one (a range scan's holes
+// took 12 of its 18 strips, each clipping a corner of a hole).
+static std::vector<bool> curve_ends(const Surface& s, const ElasticaGraph& g, const std::vector<bool>& on_boundary,
+                             const std::vector<Vec3>& tangent) {
+  std::vector<bool> ends(g.num_nodes(), false);
+  for (Index x = 0; x < g.num_nodes(); ++x) {
+    const Index w = g.head[x];
+    if (!on_boundary[w]) continue;
+    const Vec3 d = s.mesh.positions[w] - s.mesh.positions[g.tail[x]];
+    ends[x] = d.norm() > 0 && std::abs(d.normalized().dot(tangent[w])) < std::sqrt(0.5);
+  }
+  return ends;
+}
+
 LoopTables loop_tables(const Surface& s, const ElasticaGraph& g) {
   LoopTables t;
   // Loops closer than the reach of one g-edge are the same strip.
@@ -56,20 +74,26 @@ LoopTables loop_tables(const Surface& s, const ElasticaGraph& g) {
   // more than 30 degrees at many vertices, and refusing ends near all of
   // them left the camel head's neck no place to end curves (3 patches
   // instead of 42).
-  t.on_boundary.assign(s.mesh.num_vertices(), false);
+  std::vector<bool> on_boundary(s.mesh.num_vertices(), false);
   for (const auto& loop : s.boundary_loops)
-    for (Index v : loop) t.on_boundary[v] = true;
+    for (Index v : loop) on_boundary[v] = true;
   std::vector<Vec3> crease_ends;
   for (Index e = 0; e < s.topology.num_edges(); ++e)
     if (s.edge_class[e] == EdgeClass::Feature)
       for (Index v : s.topology.edges[e])
-        if (t.on_boundary[v]) crease_ends.push_back(s.mesh.positions[v]);
+        if (on_boundary[v]) crease_ends.push_back(s.mesh.positions[v]);
+  // Per boundary vertex the boundary's tangent there (zero elsewhere).
+  std::vector<Vec3> tangent(s.mesh.num_vertices(), Vec3::Zero());
   for (const auto& loop : s.boundary_loops)
-    for (Index v : loop) {
+    for (size_t i = 0; i < loop.size(); ++i) {
+      const Index v = loop[i];
       bool near_corner = false;
       for (const Vec3& c : crease_ends) near_corner |= (s.mesh.positions[v] - c).norm() < 2 * mean_edge;
-      t.on_boundary[v] = !near_corner;
+      on_boundary[v] = !near_corner;
+      const Vec3 d = s.mesh.positions[loop[(i + 1) % loop.size()]] - s.mesh.positions[loop[(i + loop.size() - 1) % loop.size()]];
+      if (d.norm() > 0) tangent[v] = d.normalized();
     }
+  t.ends_curve = curve_ends(s, g, on_boundary, tangent);
   t.has_boundary = !s.boundary_loops.empty();
   return t;
 }
@@ -186,7 +210,7 @@ enum class Goal { ReturnToStart, Boundary };
 using Fields = std::vector<std::vector<float>>;
 
 Path layered_search(const SearchContext& ctx, SearchWorkspaces& ws, const std::vector<ResolvedAnchor>& anchors,
-                    Index start, Goal goal, double bound, bool guided, const std::vector<bool>& on_boundary,
+                    Index start, Goal goal, double bound, bool guided, const std::vector<bool>& ends_curve,
                     const Fields* fields = nullptr) {
   const ElasticaGraph& g = ctx.graph;
   const Surface& s = ctx.surface;
@@ -236,7 +260,7 @@ Path layered_search(const SearchContext& ctx, SearchWorkspaces& ws, const std::v
     const double d = here.dist(x);
     if (k >= std::min(best, bound)) break;
     if ((++pops & 4095) == 0 && ctx.check_cancel) ctx.check_cancel();
-    if (layer == n - 1 && goal == Goal::Boundary && on_boundary[g.head[x]]) {
+    if (layer == n - 1 && goal == Goal::Boundary && ends_curve[x]) {
       best = d, best_layer = layer, best_node = x;
       break;  // settled in cost order: the first is the cheapest
     }
@@ -339,7 +363,7 @@ Fields backward_fields(const SearchContext& ctx, SearchWorkspace& ws, const std:
 // the boundary), no costlier than `bound`.
 Loop best_loop_from(const SearchContext& ctx, SearchWorkspaces& ws, const std::vector<ResolvedAnchor>& anchors,
                     Index start, double bound, const LoopSearchOptions& options, bool open,
-                    const std::vector<bool>& on_boundary, std::size_t budget = std::numeric_limits<std::size_t>::max(),
+                    const std::vector<bool>& ends_curve, std::size_t budget = std::numeric_limits<std::size_t>::max(),
                     bool* aborted = nullptr) {
   const ElasticaGraph& g = ctx.graph;
   const bool guided = options.algorithm != SearchAlgorithm::Dijkstra;
@@ -347,7 +371,7 @@ Loop best_loop_from(const SearchContext& ctx, SearchWorkspaces& ws, const std::v
   double cost = kUnreachable;
   Path closed = anchors.size() == 1
                     ? shortest_path(ctx, ws.forward, ws.backward, start, start, options.algorithm, bound, budget)
-                    : layered_search(ctx, ws, anchors, start, Goal::ReturnToStart, bound, guided, on_boundary);
+                    : layered_search(ctx, ws, anchors, start, Goal::ReturnToStart, bound, guided, ends_curve);
   if (closed.aborted) {
     if (aborted) *aborted = true;
     return {};
@@ -358,9 +382,9 @@ Loop best_loop_from(const SearchContext& ctx, SearchWorkspaces& ws, const std::v
     loop.closed = true;
   }
   if (open) {
-    auto arrives = [&](Index node) { return bool(on_boundary[g.head[node]]); };
+    auto arrives = [&](Index node) { return bool(ends_curve[node]); };
     const double limit = std::min(cost, bound);
-    Path forward = layered_search(ctx, ws, anchors, start, Goal::Boundary, limit, guided, on_boundary);
+    Path forward = layered_search(ctx, ws, anchors, start, Goal::Boundary, limit, guided, ends_curve);
     if (forward.found()) {
       Path backward = shortest_path_to_set(ctx, ws.forward, g.reverse[start], arrives, limit - forward.cost);
       if (backward.found() && forward.cost + backward.cost < limit) {
@@ -479,7 +503,7 @@ class StartSchedule {
 // on thread timing.
 Loop best_over_starts(const SearchContext& ctx, std::vector<SearchWorkspaces>& pool,
                       const std::vector<ResolvedAnchor>& anchors, const std::vector<Index>& starts,
-                      const LoopSearchOptions& options, bool open, const std::vector<bool>& on_boundary) {
+                      const LoopSearchOptions& options, bool open, const std::vector<bool>& ends_curve) {
   constexpr double kTie = 1e-9;
   std::atomic<double> shared_bound{kUnreachable};
   StartSchedule schedule(ctx.graph, starts);
@@ -507,7 +531,7 @@ Loop best_over_starts(const SearchContext& ctx, std::vector<SearchWorkspaces>& p
         const bool unbounded = bound == kUnreachable;
         bool aborted = false;
         const bool capped = unbounded && !was_put_off && schedule.others_left();
-        Loop loop = best_loop_from(ctx, pool[t], anchors, starts[i], bound, options, open, on_boundary,
+        Loop loop = best_loop_from(ctx, pool[t], anchors, starts[i], bound, options, open, ends_curve,
                                    capped ? kUnboundedBudget << std::min(put_off_count.load(), 20)
                                           : std::numeric_limits<std::size_t>::max(),
                                    &aborted);
@@ -554,7 +578,7 @@ std::vector<Loop> find_loops(const SearchContext& ctx, const LoopTables& tables,
   SearchWorkspaces& ws = pool.at(0);
   if (given.empty()) throw InputError("a loop needs at least one anchor");
   const bool open = options.allow_open && tables.has_boundary;
-  const std::vector<bool>& on_boundary = tables.on_boundary;
+  const std::vector<bool>& ends_curve = tables.ends_curve;
   // A closed loop is a cycle: start it at the anchor with the fewest
   // candidates. An open curve runs from the boundary through the anchors in
   // the given order, so then the first anchor starts.
@@ -584,7 +608,7 @@ std::vector<Loop> find_loops(const SearchContext& ctx, const LoopTables& tables,
     // (A start can fail to close any loop, e.g. when the mask blocks it.)
     Loop first;
     for (Index st : starts) {
-      first = best_loop_from(ctx, ws, anchors, st, kUnreachable, options, open, on_boundary);
+      first = best_loop_from(ctx, ws, anchors, st, kUnreachable, options, open, ends_curve);
       if (!first.nodes.empty()) break;
     }
     if (first.nodes.empty()) return {};
@@ -608,7 +632,7 @@ std::vector<Loop> find_loops(const SearchContext& ctx, const LoopTables& tables,
     std::sort(order.begin(), order.end());
     for (const auto& [lower, st] : order) {
       if (!(lower < bound)) break;
-      Path p = layered_search(ctx, ws, anchors, st, Goal::ReturnToStart, bound, true, on_boundary, &fields);
+      Path p = layered_search(ctx, ws, anchors, st, Goal::ReturnToStart, bound, true, ends_curve, &fields);
       if (!p.found()) continue;
       Loop loop;
       loop.nodes.assign(p.nodes.begin(), p.nodes.end() - 1);
@@ -616,7 +640,7 @@ std::vector<Loop> find_loops(const SearchContext& ctx, const LoopTables& tables,
       if (loop.cost < bound) bound = loop.cost, best = std::move(loop);
     }
   } else {
-    best = best_over_starts(ctx, pool, anchors, starts, options, open, on_boundary);
+    best = best_over_starts(ctx, pool, anchors, starts, options, open, ends_curve);
   }
   if (best.nodes.empty()) return {};
   if (count <= 1) return {best};
@@ -625,7 +649,7 @@ std::vector<Loop> find_loops(const SearchContext& ctx, const LoopTables& tables,
   const double cap = options.max_alternative_cost_ratio * best.cost;
   std::vector<Loop> found{best};
   for (Index s : starts) {
-    Loop loop = best_loop_from(ctx, ws, anchors, s, cap, options, open, on_boundary);
+    Loop loop = best_loop_from(ctx, ws, anchors, s, cap, options, open, ends_curve);
     if (loop.nodes.empty()) continue;
     evaluate_loop(g, loop);
     found.push_back(std::move(loop));

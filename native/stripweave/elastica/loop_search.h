@@ -71,7 +71,10 @@ class SurfaceLocator;
 // What every query needs of the surface, computed once per session (not on
 // the hover path).
 struct LoopTables {
-  std::vector<bool> on_boundary;    // per vertex: an open curve may end here (§5.7): the open boundary away from its corners
+  // Per g' node: an open curve may end with it (§5.7): it arrives at the open
+  // boundary away from the part's corners, across the boundary rather than
+  // along it (nearer its normal than its tangent).
+  std::vector<bool> ends_curve;
   bool has_boundary = false;
   double duplicate_tolerance = 0;   // loops whose vertices are all this close are one strip
 };
