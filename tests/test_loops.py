@@ -479,8 +479,22 @@ def test_an_open_curve_meets_the_boundary_across_it_not_along_it():
     for x in (12, 24, 36, 48):
         plate = plate.cut(Part.Face(Part.Wire(Part.makeCircle(3.0, FreeCAD.Vector(x, 15, 0)))))
     session = LoopSession(sw.from_shape(plate, target_triangles=8000))
+
+    def boundary_tangent(p):
+        hole = min((12, 24, 36, 48), key=lambda c: abs(math.hypot(p[0] - c, p[1] - 15) - 3))
+        if abs(math.hypot(p[0] - hole, p[1] - 15) - 3) < 0.2:
+            return np.array([-(p[1] - 15), p[0] - hole, 0.0]) / 3.0
+        return np.array([1.0, 0, 0]) if min(p[1], 30 - p[1]) < 0.2 else np.array([0, 1.0, 0])
+
     for x in (12, 36):
         for a in (0.0, 1.3, 2.9, 4.4):
             loop = session.best_loop((x + 3.0 * math.cos(a), 15 + 3.0 * math.sin(a), 0.0))
             assert loop["cost"] > 0
             assert loop["length"] > 3.0      # it crosses the plate, not a corner of the rim
+            points = np.asarray(loop["points"])
+            if loop["closed"]:
+                continue
+            # Each end arrives across the boundary: nearer its normal than its tangent.
+            for end, before in ((points[0], points[min(3, len(points) - 1)]), (points[-1], points[max(-4, -len(points))])):
+                arriving = (end - before) / np.linalg.norm(end - before)
+                assert abs(float(arriving @ boundary_tangent(end))) < math.sqrt(0.5)

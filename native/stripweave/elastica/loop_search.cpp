@@ -36,15 +36,13 @@ void append_chain(std::vector<Index>& chain, const std::vector<Index>& piece) {
   chain.insert(chain.end(), chain.empty() ? piece.begin() : piece.begin() + 1, piece.end());
 }
 
-}  // namespace
-
 // The g' nodes that may end an open curve: those arriving at an allowed
 // boundary vertex across the boundary, nearer its normal than its tangent.
 // A curve meets the open boundary orthogonally (§5.7); a node along the
 // boundary, both its ends on it, closed a "curve" of that node alone at no
 // cost, which the search prefers to every real one (a range scan's holes
 // took 12 of its 18 strips, each clipping a corner of a hole).
-static std::vector<bool> curve_ends(const Surface& s, const ElasticaGraph& g, const std::vector<bool>& on_boundary,
+std::vector<bool> curve_ends(const Surface& s, const ElasticaGraph& g, const std::vector<bool>& on_boundary,
                              const std::vector<Vec3>& tangent) {
   std::vector<bool> ends(g.num_nodes(), false);
   for (Index x = 0; x < g.num_nodes(); ++x) {
@@ -55,6 +53,8 @@ static std::vector<bool> curve_ends(const Surface& s, const ElasticaGraph& g, co
   }
   return ends;
 }
+
+}  // namespace
 
 LoopTables loop_tables(const Surface& s, const ElasticaGraph& g) {
   LoopTables t;

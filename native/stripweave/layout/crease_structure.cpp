@@ -171,6 +171,19 @@ struct Analysis {
   // second piece instead put the seed on a crease, whose best loop runs along
   // it: it parts nothing and leaves the crease on no primal edge. `inner`:
   // the region's edges off the loops.
+  void split_regions_to_part() {
+    std::vector<std::uint8_t> marked(region_edges.size(), 0);
+    for (Index r : to_part) marked[r] = 1;
+    std::vector<std::vector<Index>> inner(region_edges.size());
+    for (Index e = 0; e < A.topology.num_edges(); ++e) {
+      if (A.separates(e)) continue;
+      const Index t = A.topology.edge_triangles[e][0];
+      const Index r = t == kInvalid ? kInvalid : triangle_region[t];
+      if (r != kInvalid && marked[r]) inner[r].push_back(e);
+    }
+    for (Index r : to_part) split_between_pieces(r, inner[r]);
+  }
+
   void split_between_pieces(Index r, const std::vector<Index>& inner) {
     RegionCreases& rc = out.regions[r];
     const std::vector<Bridge> bridges = shortest_bridges(A, {region_edges[r], inner});
@@ -285,18 +298,9 @@ CreaseStructure crease_structure(const Surface& s, const LoopArrangement& A, con
     if (A.topology.is_boundary_edge(e)) touches[triangle_region[A.topology.edge_triangles[e][0]]] = 1;
   std::vector<Index> degree(A.mesh.num_vertices(), 0), parent(A.mesh.num_vertices(), kInvalid);
   for (Index r = 0; r < num_regions; ++r) analysis.analyse(r, touches[r], degree, parent);
-  // The regions whose split is a bridge between crease pieces: their inner
-  // edges, in one pass over the edges.
-  std::vector<std::uint8_t> to_part(num_regions, 0);
-  for (Index r : analysis.to_part) to_part[r] = 1;
-  std::vector<std::vector<Index>> inner(num_regions);
-  for (Index e = 0; e < A.topology.num_edges(); ++e) {
-    if (A.separates(e)) continue;
-    const Index t = A.topology.edge_triangles[e][0];
-    const Index r = t == kInvalid ? kInvalid : triangle_region[t];
-    if (r != kInvalid && to_part[r]) inner[r].push_back(e);
-  }
-  for (Index r : analysis.to_part) analysis.split_between_pieces(r, inner[r]);
+  // Regions parted across a bridge between crease pieces: one more pass over
+  // the edges, skipped when there is none (most assessments).
+  if (!analysis.to_part.empty()) analysis.split_regions_to_part();
   for (Index& x : out.arc_exit)
     if (x == Analysis::kNoExit) x = kInvalid;
   return out;
