@@ -760,3 +760,47 @@ def test_seed_points_ask_the_principal_directions_first():
     assert a["colours"]["red"] == 0 and a["crossings"] >= 1
     with pytest.raises(native.InputError, match="seed directions"):
         WeaveOptions(seed_directions="diagonal").check()
+
+
+def test_a_direction_the_mask_refuses_still_gets_the_best_loop_through_its_point():
+    """A seed's direction is a hint (across a crease between two exits, across a bridge). On a
+    torus with one meridian, the direction of a second meridian is parallel to the strip, and
+    the compatibility mask refuses it. The weave then asks for the best loop through the same
+    point in any direction: the longitude, which crosses the meridian and cuts the torus into
+    a disc. Without that, the seed gave nothing."""
+    from stripweave.weave import _Weaver
+    surface = sw.from_shape(torus(), target_triangles=8000)
+    ds = DesignSession(surface, Design([[(13, 0, 0, 0, 0, 1)]]))
+    w = _Weaver(ds, WeaveOptions())
+    parallel = [0, 13, 0, 0, 0, 1]
+    assert w._proposals(parallel, 1) == []          # the mask refuses the direction itself
+    found = w.proposals(parallel, 1)
+    assert len(found) == 1
+    assert w.add(found[0], parallel) is not None
+    assert w.assess()["colours"]["red"] == 0
+
+
+def test_a_loop_leaving_a_crease_along_it_is_anchored_where_its_direction_holds():
+    """A square-section ring with a meridian; the best loop through a point of its top outer
+    rim, in any direction, leaves the rim along it. An anchor at that node would be turned
+    across the crease (a loop never runs along one), into a direction the meridian's strip
+    refuses, and the design rejected every such strip. loop_anchor takes the loop's nearest
+    node whose direction an anchor keeps, and the design accepts the strip."""
+    from stripweave.weave import _Weaver
+    R, a = 30.0, 8.0
+    section = Part.makePolygon([Vector(R - a / 2, 0, -a / 2), Vector(R + a / 2, 0, -a / 2),
+                                Vector(R + a / 2, 0, a / 2), Vector(R - a / 2, 0, a / 2), Vector(R - a / 2, 0, -a / 2)])
+    ring = Part.Face(section).revolve(Vector(0, 0, 0), Vector(0, 0, 1), 360)
+    surface = sw.from_shape(ring, target_triangles=12000)
+    ds = DesignSession(surface, Design([[(R + a / 2, 0, 0, 0, 0, 1)]]))
+    w = _Weaver(ds, WeaveOptions())
+    accepted = 0
+    for theta in (0.3, 1.2, 2.1, 3.0):
+        point = [(R + a / 2) * math.cos(theta), (R + a / 2) * math.sin(theta), a / 2]
+        loops = w._proposals(point, 1)
+        assert len(loops) == 1
+        index = w.add(loops[0], point)
+        if index is not None:
+            accepted += 1
+            w.remove(index)
+    assert accepted == 4

@@ -183,12 +183,8 @@ void bind_weave(py::module_& m) {
         if (loop.nodes.empty()) throw InputError("loop_anchor: the loop has no nodes");
         const Vec3 p = s.similarity.to_normalized(Vec3(point[0], point[1], point[2]));
         const ElasticaGraph& g = session.graph();
-        Index best = loop.nodes.front();
-        double best_d = std::numeric_limits<double>::infinity();
-        for (Index n : loop.nodes) {
-          const double dn = (s.mesh.positions[g.tail.at(n)] - p).squaredNorm();
-          if (dn < best_d) best_d = dn, best = n;
-        }
+        for (Index n : loop.nodes) (void)g.tail.at(n);  // a loop of another session: an error, not a crash
+        const Index best = loop_anchor_node(s, g, loop, p);
         const Vec3 q = s.similarity.to_model(s.mesh.positions[g.tail.at(best)]);
         const Vec3 t = g.tangent(s, best);
         return std::vector<double>{q.x(), q.y(), q.z(), t.x(), t.y(), t.z()};

@@ -442,7 +442,14 @@ class _Weaver:
         one across the rim runs over the faces and through a bore."""
         self.check_cancel()
         if len(point) != 3:
-            return self._proposals(point, alternatives)
+            # A direction is a hint of where the loop should leave (across a crease between
+            # two of its exits, across a bridge). Where it gives no loop, mostly because the
+            # compatibility mask refuses it (a strip already runs that way: a ring of
+            # parallel creases with a loop along the ring; a torus's second meridian), the
+            # best loop through the same point in any direction may still part what the
+            # point was chosen to part, or cut what it was chosen to cut.
+            return self._proposals(point, alternatives) or \
+                self.proposals(list(point)[:3], alternatives, both_families)
         order = self.options.seed_directions
         if order == "all" or (order == "adaptive" and not self.capped_all_directions):
             found = self._proposals(point, alternatives)

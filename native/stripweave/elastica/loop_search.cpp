@@ -108,6 +108,24 @@ static int crease_edges_at(const Surface& s, Index v) {
   return count;
 }
 
+// Whether a direction at polar angle theta (g's frame: on a crease vertex,
+// angle 0 runs along the crease) is nearer the crease than across it; an
+// anchor asking for it is turned across (resolve_anchor).
+static bool along_crease(const Surface& s, Index v, double theta) {
+  return crease_edges_at(s, v) == 2 && std::abs(std::sin(theta)) < std::sqrt(0.5);
+}
+
+Index loop_anchor_node(const Surface& s, const ElasticaGraph& g, const Loop& loop, const Vec3& p) {
+  Index best = kInvalid, nearest = loop.nodes.front();
+  double best_d = std::numeric_limits<double>::infinity(), nearest_d = best_d;
+  for (Index n : loop.nodes) {
+    const double d = (s.mesh.positions[g.tail[n]] - p).squaredNorm();
+    if (d < nearest_d) nearest_d = d, nearest = n;
+    if (d < best_d && !along_crease(s, g.tail[n], g.angle[n])) best_d = d, best = n;
+  }
+  return best != kInvalid ? best : nearest;
+}
+
 ResolvedAnchor resolve_anchor(const SearchContext& ctx, const SurfaceLocator& locator, const Anchor& anchor,
                               double max_distance, int index) {
   const Surface& s = ctx.surface;
@@ -148,7 +166,7 @@ ResolvedAnchor resolve_anchor(const SearchContext& ctx, const SurfaceLocator& lo
     // crease, at polar angle 0) a direction nearer the crease than across it
     // is taken across it (§5.6: curves cross features orthogonally). A
     // crease junction keeps the direction asked for.
-    if (crease_edges_at(s, v) == 2 && std::abs(std::sin(theta)) < std::sqrt(0.5)) theta = 0.5 * M_PI;
+    if (along_crease(s, v, theta)) theta = 0.5 * M_PI;
     // The node closest to the direction and the one closest to its opposite:
     // a tangent's sign does not matter.
     for (double want : {theta, theta + M_PI}) {

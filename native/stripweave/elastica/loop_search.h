@@ -86,6 +86,13 @@ LoopTables loop_tables(const Surface& surface, const ElasticaGraph& graph);
 ResolvedAnchor resolve_anchor(const SearchContext& ctx, const SurfaceLocator& locator, const Anchor& anchor,
                               double max_distance, int anchor_index);
 
+// The node of `loop` nearest to p (normalized units) whose direction an
+// anchor keeps: resolve_anchor turns a direction along a crease at a crease
+// vertex across it, so an anchor at a node where the loop runs along a crease
+// would ask for another loop, often one the mask refuses. The nearest node
+// when every node is such. The loop must have nodes.
+Index loop_anchor_node(const Surface& surface, const ElasticaGraph& graph, const Loop& loop, const Vec3& p);
+
 // Fill cost terms and max_turn of a loop from its nodes.
 void evaluate_loop(const ElasticaGraph& graph, Loop& loop);
 

@@ -4,6 +4,7 @@
 #include "stripweave/layout/region_bridges.h"
 
 #include <algorithm>
+#include <limits>
 #include <numeric>
 #include <unordered_map>
 
@@ -124,18 +125,14 @@ struct Analysis {
     int repeated = 0;  // exits beyond the first across each arc
     for (size_t i = 1; i < exits.size(); ++i) repeated += same_arc(exits[i - 1], exits[i]);
     Index other_end = kInvalid;  // the second node, or exit, that the problem pairs with the first
+    ExitPair same_arc_pair;
     if (rc.problem == CreaseProblem::TwoNodes) other_end = rc.problem_vertex;
     if (twice != exits.end()) {
       flag(r, CreaseProblem::SameArc, twice->second, repeated);
-      // The other exit across that arc: the first at another vertex. A crease
-      // through an arc with the region on both sides leaves across it twice at
-      // one vertex (one crease edge on each side), and no loop parts a vertex
-      // from itself.
-      const auto other = std::find_if(twice + 1, exits.end(), [&](const auto& x) {
-        return x.first == twice->first && x.second != twice->second;
-      });
-      if (rc.problem == CreaseProblem::SameArc && other != exits.end())
-        other_end = other->second;
+      if (rc.problem == CreaseProblem::SameArc) {
+        same_arc_pair = nearest_exits(exits);
+        other_end = same_arc_pair.b;
+      }
     }
     if (components > 1) {
       Index apart = vertices[0];
@@ -147,12 +144,12 @@ struct Analysis {
     if (touches_boundary && boundary_nodes == 0) flag(r, CreaseProblem::BoundaryApart, vertices[0]);
     if (rc.problem != CreaseProblem::None) {
       const Index from = rc.problem == CreaseProblem::TwoNodes ? rc.node : rc.problem == CreaseProblem::SameArc
-                                                                                  ? twice->second
+                                                                                  ? same_arc_pair.a
                                                                                   : kInvalid;
       rc.split_vertex =
           from != kInvalid && other_end != kInvalid ? middle_of_path(edges, from, other_end, rc.split_across) : kInvalid;
-      if (rc.split_vertex == kInvalid && rc.problem == CreaseProblem::SameArc)
-        rc.split_vertex = middle_of_arc(twice->first, from, other_end, rc.split_across);
+      if (rc.split_vertex == kInvalid && same_arc_pair.arc != kInvalid)
+        rc.split_vertex = middle_of_arc(same_arc_pair.arc, from, other_end, rc.split_across);
       if (rc.split_vertex == kInvalid) {
         rc.split_vertex = rc.problem_vertex;
         // No crease path or arc joins the pair (two nodes on two creases): part
@@ -191,6 +188,46 @@ struct Analysis {
     Vec3 across = Vec3::Zero();
     const Index v = halfway(bridges.front().path, across);
     if (across.norm() > 0) rc.split_vertex = v, rc.split_across = across;
+  }
+
+  // Two exits across one arc, at distinct vertices, that a loop must part.
+  struct ExitPair {
+    Index arc = kInvalid, a = kInvalid, b = kInvalid;
+  };
+
+  // Of all exits across one arc (exits: (arc, vertex), sorted), the two that
+  // are neighbours along their arc with the shortest stretch of arc between
+  // them. Every such pair must be parted by a loop crossing the arc between
+  // them, and the nearest pair leaves that loop the least choice: between
+  // parallel creases a groove apart it must run along them, in the groove,
+  // where a loop parting two exits far apart (the two ends of a lid's edge)
+  // may take any course, and its best one crosses the other creases of the
+  // part (a box's ring of parallel creases). Distinct vertices only: a crease
+  // through an arc with the region on both sides leaves across it twice at
+  // one vertex, and no loop parts a vertex from itself.
+  ExitPair nearest_exits(const std::vector<std::pair<Index, Index>>& exits) const {
+    ExitPair best;
+    double shortest = std::numeric_limits<double>::infinity();
+    for (size_t i = 0; i < exits.size();) {
+      size_t j = i;
+      while (j < exits.size() && exits[j].first == exits[i].first) ++j;
+      const Index k = exits[i].first;
+      const std::vector<Index>& v = A.arcs[k].vertices;
+      std::vector<size_t> at;  // positions of the arc's exits along it
+      for (size_t x = i; x < j; ++x) {
+        const size_t p = static_cast<size_t>(std::find(v.begin(), v.end(), exits[x].second) - v.begin());
+        if (p < v.size()) at.push_back(p);
+      }
+      std::sort(at.begin(), at.end());
+      at.erase(std::unique(at.begin(), at.end()), at.end());
+      for (size_t x = 1; x < at.size(); ++x) {
+        double gap = 0;
+        for (size_t y = at[x - 1]; y < at[x]; ++y) gap += length(v[y], v[y + 1]);
+        if (gap < shortest) shortest = gap, best = {k, v[at[x - 1]], v[at[x]]};
+      }
+      i = j;
+    }
+    return best;
   }
 
   // The vertex halfway (by length) along the crease path from a to b over
