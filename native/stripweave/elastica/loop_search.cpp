@@ -112,7 +112,7 @@ static int crease_edges_at(const Surface& s, Index v) {
 // angle 0 runs along the crease) is nearer the crease than across it; an
 // anchor asking for it is turned across (resolve_anchor).
 static bool along_crease(const Surface& s, Index v, double theta) {
-  return crease_edges_at(s, v) == 2 && std::abs(std::sin(theta)) < std::sqrt(0.5);
+  return std::abs(std::sin(theta)) < std::sqrt(0.5) && crease_edges_at(s, v) == 2;  // the cheap test first
 }
 
 Index loop_anchor_node(const Surface& s, const ElasticaGraph& g, const Loop& loop, const Vec3& p) {

@@ -149,7 +149,7 @@ struct Analysis {
       rc.split_vertex =
           from != kInvalid && other_end != kInvalid ? middle_of_path(edges, from, other_end, rc.split_across) : kInvalid;
       if (rc.split_vertex == kInvalid && same_arc_pair.arc != kInvalid)
-        rc.split_vertex = middle_of_arc(same_arc_pair.arc, from, other_end, rc.split_across);
+        rc.split_vertex = middle_of_arc(same_arc_pair, rc.split_across);
       if (rc.split_vertex == kInvalid) {
         rc.split_vertex = rc.problem_vertex;
         // No crease path or arc joins the pair (two nodes on two creases): part
@@ -160,14 +160,8 @@ struct Analysis {
     for (Index v : vertices) degree[v] = 0;
   }
 
-  // Crease pieces apart in one region (the two rims of a face between the
-  // same loops), or two nodes no crease path in it joins: the loop that parts
-  // them runs between the pieces, so the split is the middle of the shortest
-  // bridge joining two pieces inside the region (region_bridges.h), and the
-  // direction across the bridge there, along the pieces. A vertex of the
-  // second piece instead put the seed on a crease, whose best loop runs along
-  // it: it parts nothing and leaves the crease on no primal edge. `inner`:
-  // the region's edges off the loops.
+  // split_between_pieces for every region in to_part, their inner edges
+  // gathered in one pass over the edges.
   void split_regions_to_part() {
     std::vector<std::uint8_t> marked(region_edges.size(), 0);
     for (Index r : to_part) marked[r] = 1;
@@ -181,6 +175,14 @@ struct Analysis {
     for (Index r : to_part) split_between_pieces(r, inner[r]);
   }
 
+  // Crease pieces apart in one region (the two rims of a face between the
+  // same loops), or two nodes no crease path in it joins: the loop that parts
+  // them runs between the pieces, so the split is the middle of the shortest
+  // bridge joining two pieces inside the region (region_bridges.h), and the
+  // direction across the bridge there, along the pieces. A vertex of the
+  // second piece instead put the seed on a crease, whose best loop runs along
+  // it: it parts nothing and leaves the crease on no primal edge. `inner`:
+  // the region's edges off the loops.
   void split_between_pieces(Index r, const std::vector<Index>& inner) {
     RegionCreases& rc = out.regions[r];
     const std::vector<Bridge> bridges = shortest_bridges(A, {region_edges[r], inner});
@@ -190,9 +192,11 @@ struct Analysis {
     if (across.norm() > 0) rc.split_vertex = v, rc.split_across = across;
   }
 
-  // Two exits across one arc, at distinct vertices, that a loop must part.
+  // Two exits across one arc, at distinct vertices, that a loop must part:
+  // the vertices and their positions along the arc (at_a < at_b).
   struct ExitPair {
     Index arc = kInvalid, a = kInvalid, b = kInvalid;
+    size_t at_a = 0, at_b = 0;
   };
 
   // Of all exits across one arc (exits: (arc, vertex), sorted), the two that
@@ -223,7 +227,7 @@ struct Analysis {
       for (size_t x = 1; x < at.size(); ++x) {
         double gap = 0;
         for (size_t y = at[x - 1]; y < at[x]; ++y) gap += length(v[y], v[y + 1]);
-        if (gap < shortest) shortest = gap, best = {k, v[at[x - 1]], v[at[x]]};
+        if (gap < shortest) shortest = gap, best = {k, v[at[x - 1]], v[at[x]], at[x - 1], at[x]};
       }
       i = j;
     }
@@ -255,13 +259,10 @@ struct Analysis {
   // loop that parts them crosses that arc between the two exits, so the
   // split is the arc's vertex halfway (by length) between them, and the
   // direction across the arc there (the new loop crosses the old one, which
-  // the two exits' pieces lie on either side of). kInvalid if either exit is
-  // not on the arc.
-  Index middle_of_arc(Index k, Index a, Index b, Vec3& across) const {
-    const std::vector<Index>& v = A.arcs[k].vertices;
-    const auto ia = std::find(v.begin(), v.end(), a), ib = std::find(v.begin(), v.end(), b);
-    if (ia == v.end() || ib == v.end() || ia == ib) return kInvalid;
-    const std::vector<Index> path(std::min(ia, ib), std::max(ia, ib) + 1);
+  // the two exits' pieces lie on either side of).
+  Index middle_of_arc(const ExitPair& pair, Vec3& across) const {
+    const std::vector<Index>& v = A.arcs[pair.arc].vertices;
+    const std::vector<Index> path(v.begin() + pair.at_a, v.begin() + pair.at_b + 1);
     return halfway(path, across);
   }
 
