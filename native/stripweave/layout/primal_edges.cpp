@@ -24,6 +24,7 @@
 #include "stripweave/layout/primalization.h"
 
 #include <algorithm>
+#include <functional>
 #include <limits>
 #include <queue>
 
@@ -78,12 +79,210 @@ bool crease_route(const PrimalContext& ctx, const std::vector<Index>& vertex_wed
   return true;
 }
 
+// Untangling. The first guesses of one region lie in one shortest-path
+// tree, so they never cross, but two of them may share a first stretch, and
+// an edge may run along a loop or the boundary where its neighbour across
+// runs too. Mesh-edge paths can only meet at a shared vertex, so an edge
+// whose inner vertices another edge also uses (or that passes through
+// another's end) is routed again with every other edge's inner vertices
+// blocked: a shortest path from the left vertex to the right one over the
+// two regions' wedges in two layers, the only way from layer 0 to layer 1
+// being across its arc (once, also when both sides are one region, as on a
+// torus). Edges on crease exits keep their routes (pinned).
+//
+// Routed one after another, an edge can find its corridor closed by edges
+// routed before it that had room elsewhere: the order decides, not the
+// geometry. So an edge left without a route is ripped up and rerouted: its
+// cheapest route through as few vertices of other unpinned edges as
+// possible (each costs kConflict, far more than any path), then those edges
+// are routed again around everything else. All or nothing: if one of them
+// finds no route, every edge keeps its former route. Each success leaves
+// fewer shared edges, so the rounds end.
+constexpr int kRipUpRounds = 3;
+constexpr double kConflict = 1e3;  // normalized units: a path is a few units at most
+
+class Untangler {
+ public:
+  using Penalty = std::function<double(Index)>;  // per refined vertex entered; infinity: never
+
+  std::vector<std::vector<Index>> routed;  // per arc, its edge's refined vertices
+  std::vector<Index> crossing;             // per arc, where in routed[k] the edge crosses the arc
+
+  Untangler(const PrimalContext& ctx, const std::vector<Index>& vertex_wedge, std::function<double(Index)> cost,
+            std::function<bool(Index)> blocked, std::vector<std::vector<Index>> routes, std::vector<Index> crossings,
+            std::vector<std::uint8_t> pinned)
+      : routed(std::move(routes)), crossing(std::move(crossings)), ctx_(ctx), vertex_wedge_(vertex_wedge),
+        cost_(std::move(cost)), blocked_(std::move(blocked)), pinned_(std::move(pinned)),
+        use_(ctx.arrangement.mesh.num_vertices(), 0), pinned_use_(use_.size(), 0), nw_(ctx.wedges.count()),
+        dist_(2 * static_cast<size_t>(nw_), kInf), pred_(dist_.size(), kInvalid) {
+    for (Index k = 0; k < static_cast<Index>(routed.size()); ++k) {
+      count(k, +1);
+      if (pinned_[k]) for_inner(k, [&](Index v) { ++pinned_use_[v]; });
+    }
+  }
+
+  // Does an unpinned edge share a vertex with another (inner vertices, or
+  // another edge passing through one of its ends)?
+  bool shared(Index k) const {
+    const std::vector<Index>& p = routed[k];
+    if (p.empty() || pinned_[k]) return false;
+    for (size_t i = 1; i + 1 < p.size(); ++i)
+      if (use_[p[i]] > 1) return true;
+    return use_[p.front()] > 0 || use_[p.back()] > 0;
+  }
+
+  // Route k again around every other edge; false (and its route kept) if none is left.
+  bool reroute(Index k) {
+    count(k, -1);
+    std::vector<Index> path;
+    Index at = 0;
+    const bool found = search(k, [&](Index v) { return use_[v] > 0 ? kInf : 0.0; }, path, at);
+    if (found) routed[k] = std::move(path), crossing[k] = at;
+    count(k, +1);
+    return found;
+  }
+
+  bool rip_up_and_reroute(Index k) {
+    count(k, -1);
+    std::vector<Index> path;
+    Index at = 0;
+    const Penalty conflict = [&](Index v) { return pinned_use_[v] > 0 ? kInf : use_[v] > 0 ? kConflict : 0.0; };
+    if (!search(k, conflict, path, at)) {
+      count(k, +1);
+      return false;
+    }
+    const std::vector<Index> victims = passing_through(path, k);
+    std::vector<std::pair<std::vector<Index>, Index>> before{{routed[k], crossing[k]}};
+    for (Index j : victims) before.push_back({routed[j], crossing[j]}), count(j, -1);
+    routed[k] = std::move(path), crossing[k] = at;
+    count(k, +1);
+    size_t done = 0;
+    for (; done < victims.size(); ++done) {
+      count(victims[done], +1);  // reroute takes it out again
+      if (!reroute(victims[done])) break;
+    }
+    if (done == victims.size()) return true;
+    // Undo: the victims rerouted so far and the one that failed (on its old
+    // route) out, k back on its route, every victim back on its own.
+    for (size_t h = 0; h <= done; ++h) count(victims[h], -1);
+    count(k, -1);
+    routed[k] = before[0].first, crossing[k] = before[0].second;
+    count(k, +1);
+    for (size_t h = 0; h < victims.size(); ++h) {
+      routed[victims[h]] = before[h + 1].first, crossing[victims[h]] = before[h + 1].second;
+      count(victims[h], +1);
+    }
+    return false;
+  }
+
+ private:
+  static constexpr double kInf = std::numeric_limits<double>::infinity();
+  const PrimalContext& ctx_;
+  const std::vector<Index>& vertex_wedge_;
+  std::function<double(Index)> cost_;   // per refined edge
+  std::function<bool(Index)> blocked_;  // per wedge: never entered
+  std::vector<std::uint8_t> pinned_;
+  std::vector<Index> use_;         // per refined vertex: the edges whose inner vertex it is
+  std::vector<Index> pinned_use_;  // ... of them pinned
+  Index nw_;
+  std::vector<double> dist_;  // per wedge in two layers
+  std::vector<Index> pred_;
+  std::vector<Index> touched_;
+
+  template <class F>
+  void for_inner(Index k, F f) const {
+    for (size_t i = 1; i + 1 < routed[k].size(); ++i) f(routed[k][i]);
+  }
+  void count(Index k, Index delta) {
+    for_inner(k, [&](Index v) { use_[v] += delta; });
+  }
+
+  // The unpinned edges other than k with an inner vertex on `path`, in arc order.
+  std::vector<Index> passing_through(const std::vector<Index>& path, Index k) const {
+    std::vector<std::uint8_t> on(use_.size(), 0);
+    for (Index v : path) on[v] = 1;
+    std::vector<Index> out;
+    for (Index j = 0; j < static_cast<Index>(routed.size()); ++j) {
+      if (j == k || pinned_[j]) continue;
+      bool hit = false;
+      for_inner(j, [&](Index v) { hit |= on[v] != 0; });
+      if (hit) out.push_back(j);
+    }
+    return out;
+  }
+
+  // The cheapest route of arc k's edge: edge costs plus penalty(v) for each
+  // refined vertex it enters (its target excepted), crossing the arc once.
+  bool search(Index k, const Penalty& penalty, std::vector<Index>& path, Index& crossing_at) {
+    const LoopArc& arc = ctx_.arrangement.arcs[k];
+    const Index L = ctx_.regions.arc_left[k], R = ctx_.regions.arc_right[k];
+    std::vector<std::pair<Index, Index>> links;  // (from wedge in layer 0, to wedge in layer 1)
+    for (size_t i = 0; i < arc.vertices.size(); ++i) {
+      if (ctx_.vertex_crossing[arc.vertices[i]] || !(penalty(arc.vertices[i]) < kInf)) continue;
+      const auto [wl, wr] = ctx_.arc_side_wedges(k, i);
+      if (wl == kInvalid || wr == kInvalid) continue;
+      links.push_back({wl, wr});
+      links.push_back({wr, wl});
+    }
+    std::sort(links.begin(), links.end());
+    const Index source = vertex_wedge_[L], target = nw_ + vertex_wedge_[R];
+    for (Index x : touched_) dist_[x] = kInf, pred_[x] = kInvalid;
+    touched_.clear();
+    using Item = std::pair<double, Index>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
+    dist_[source] = 0, touched_.push_back(source), heap.push({0.0, source});
+    auto relax = [&](Index from, Index to, double nd) {
+      if (nd >= dist_[to]) return;
+      if (dist_[to] == kInf) touched_.push_back(to);
+      dist_[to] = nd, pred_[to] = from;
+      heap.push({nd, to});
+    };
+    while (!heap.empty()) {
+      const auto [d, x] = heap.top();
+      heap.pop();
+      if (d > dist_[x]) continue;
+      if (x == target) break;
+      const Index layer = x >= nw_, w = x - layer * nw_;
+      for (Index j = ctx_.wedge_neighbours.offsets[w]; j < ctx_.wedge_neighbours.offsets[w + 1]; ++j) {
+        const Index y = ctx_.wedge_neighbours.indices[j];
+        const Index r = ctx_.wedge_region[y];
+        if ((r != L && r != R) || blocked_(y)) continue;
+        const double extra = y + layer * nw_ == target ? 0.0 : penalty(ctx_.wedges.vertex[y]);
+        if (!(extra < kInf)) continue;  // never entered, so never passed through
+        relax(x, y + layer * nw_, d + cost_(ctx_.wedge_neighbour_edge.indices[j]) + extra);
+      }
+      if (layer == 0) {  // across the arc at a vertex already entered
+        auto it = std::lower_bound(links.begin(), links.end(), std::pair<Index, Index>(w, kInvalid));
+        for (; it != links.end() && it->first == w; ++it) relax(x, nw_ + it->second, d);
+      }
+    }
+    if (dist_[target] == kInf) return false;
+    read_route(target, path, crossing_at);
+    return true;
+  }
+
+  void read_route(Index target, std::vector<Index>& path, Index& crossing_at) const {
+    path.clear();
+    crossing_at = 0;
+    for (Index x = target; x != kInvalid; x = pred_[x]) {
+      const Index w = x >= nw_ ? x - nw_ : x;
+      // The crossing link joins two wedges of one vertex: keep it once.
+      if (!path.empty() && path.back() == ctx_.wedges.vertex[w]) {
+        crossing_at = static_cast<Index>(path.size()) - 1;
+        continue;
+      }
+      path.push_back(ctx_.wedges.vertex[w]);
+    }
+    std::reverse(path.begin(), path.end());
+    crossing_at = static_cast<Index>(path.size()) - 1 - crossing_at;
+  }
+};
+
 }  // namespace
 
 std::vector<PrimalEdge> route_primal_edges(const PrimalContext& ctx, const std::vector<Index>& vertex_wedge,
                                            std::vector<std::string>& problems) {
   const LoopArrangement& A = ctx.arrangement;
-  const TriangleMesh& m = A.mesh;
   const MeshTopology& rt = A.topology;
 
   auto cost = [&](Index e) {
@@ -145,108 +344,28 @@ std::vector<PrimalEdge> route_primal_edges(const PrimalContext& ctx, const std::
     pinned[k] = 1;
   }
 
-  // Untangle. The guesses of one region lie in one shortest-path tree, so
-  // they never cross, but two of them may share a first stretch, and an
-  // edge may run along a loop or the boundary where its neighbour across
-  // runs too. Mesh-edge paths can only meet at a shared vertex, so: going
-  // through the arcs from the least cheap per unit length (edges across
-  // open surface) to the cheapest (edges on creases and the boundary, which
-  // keep their route), an edge whose inner vertices another edge also uses
-  // is routed again with every other edge's inner vertices blocked. The
-  // re-route is a shortest path from the left vertex to the right one over
-  // the two regions' wedges in two layers, the only way from layer 0 to
-  // layer 1 being across this arc (once, also when both sides are one
-  // region, as on a torus). If no route is left, the guess stays, and the
-  // overlap is reported.
+  // Untangle (Untangler, above): edges across open surface first (the least
+  // cheap per unit length), then those on creases and the boundary.
   std::vector<Index> order(na);
   for (Index k = 0; k < na; ++k) order[k] = k;
   std::stable_sort(order.begin(), order.end(), [&](Index a, Index b) { return cheapness[a] > cheapness[b]; });
-  std::vector<Index> use(m.num_vertices(), 0);  // inner vertices of the current routes
-  std::vector<std::vector<Index>> routed = guess;
-  std::vector<Index> routed_crossing = guess_crossing;
-  auto count = [&](const std::vector<Index>& path, Index delta) {
-    for (size_t i = 1; i + 1 < path.size(); ++i) use[path[i]] += delta;
-  };
-  for (Index k = 0; k < na; ++k) count(routed[k], +1);
-  const Index nw = ctx.wedges.count();
-  std::vector<double> d2(2 * static_cast<size_t>(nw), inf);
-  std::vector<Index> p2(2 * static_cast<size_t>(nw), kInvalid);
-  std::vector<Index> touched;
-  for (Index k : order) {
-    if (guess[k].empty() || pinned[k]) continue;
-    bool shared = false;
-    for (size_t i = 1; i + 1 < routed[k].size() && !shared; ++i) shared = use[routed[k][i]] > 1;
-    // Its end vertices may not be passed through by others either.
-    for (Index v : {routed[k].front(), routed[k].back()}) shared |= use[v] > 0;
-    if (!shared) continue;
-    count(routed[k], -1);
-    auto used = [&](Index v) { return use[v] > 0; };
-    const LoopArc& arc = A.arcs[k];
-    const Index L = ctx.regions.arc_left[k], R = ctx.regions.arc_right[k];
-    std::vector<std::pair<Index, Index>> links;  // (from wedge in layer 0, to wedge in layer 1)
-    for (size_t i = 0; i < arc.vertices.size(); ++i) {
-      if (ctx.vertex_crossing[arc.vertices[i]] || used(arc.vertices[i])) continue;
-      const auto [wl, wr] = sides(arc, i);
-      if (wl == kInvalid || wr == kInvalid) continue;
-      links.push_back({wl, wr});
-      links.push_back({wr, wl});
-    }
-    std::sort(links.begin(), links.end());
-    const Index source = vertex_wedge[L], target = nw + vertex_wedge[R];
-    for (Index x : touched) d2[x] = inf, p2[x] = kInvalid;
-    touched.clear();
-    using Item = std::pair<double, Index>;
-    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
-    d2[source] = 0, touched.push_back(source), heap.push({0.0, source});
-    auto relax = [&](Index from, Index to, double nd) {
-      if (nd >= d2[to]) return;
-      if (d2[to] == inf) touched.push_back(to);
-      d2[to] = nd, p2[to] = from;
-      heap.push({nd, to});
-    };
-    while (!heap.empty()) {
-      const auto [d, x] = heap.top();
-      heap.pop();
-      if (d > d2[x]) continue;
-      if (x == target) break;
-      const Index layer = x >= nw, w = x - layer * nw;
-      if (x != source && used(ctx.wedges.vertex[w])) continue;  // reached, but not passed through
-      for (Index j = ctx.wedge_neighbours.offsets[w]; j < ctx.wedge_neighbours.offsets[w + 1]; ++j) {
-        const Index y = ctx.wedge_neighbours.indices[j];
-        const Index r = ctx.wedge_region[y];
-        if ((r != L && r != R) || blocked(y)) continue;
-        const Index yv = ctx.wedges.vertex[y];
-        if (used(yv) && y + layer * nw != target) continue;
-        relax(x, y + layer * nw, d + cost(ctx.wedge_neighbour_edge.indices[j]));
-      }
-      if (layer == 0) {
-        auto it = std::lower_bound(links.begin(), links.end(), std::pair<Index, Index>(w, kInvalid));
-        for (; it != links.end() && it->first == w; ++it) relax(x, nw + it->second, d);
-      }
-    }
-    if (d2[target] == inf) {
-      problems.push_back("arc " + std::to_string(k) + " (loop " + std::to_string(arc.loop) +
-                         "): the other primal edges leave no free corridor; its edge overlaps them");
-      count(routed[k], +1);
-      continue;
-    }
-    std::vector<Index> path;
-    Index crossing_at = 0;
-    for (Index x = target; x != kInvalid; x = p2[x]) {
-      const Index w = x >= nw ? x - nw : x;
-      // The crossing link joins two wedges of one vertex: keep it once.
-      if (!path.empty() && path.back() == ctx.wedges.vertex[w]) {
-        crossing_at = static_cast<Index>(path.size()) - 1;
-        continue;
-      }
-      path.push_back(ctx.wedges.vertex[w]);
-    }
-    std::reverse(path.begin(), path.end());
-    crossing_at = static_cast<Index>(path.size()) - 1 - crossing_at;
-    routed[k] = std::move(path);
-    routed_crossing[k] = crossing_at;
-    count(routed[k], +1);
+  Untangler u(ctx, vertex_wedge, cost, blocked, std::move(guess), std::move(guess_crossing), std::move(pinned));
+  std::vector<Index> stuck;
+  for (Index k : order)
+    if (u.shared(k) && !u.reroute(k)) stuck.push_back(k);
+  for (int round = 0; round < kRipUpRounds && !stuck.empty(); ++round) {
+    std::vector<Index> still;
+    for (Index k : stuck)
+      if (u.shared(k) && !u.rip_up_and_reroute(k)) still.push_back(k);
+    if (still.size() == stuck.size()) break;
+    stuck.swap(still);
   }
+  for (Index k : stuck)
+    if (u.shared(k))
+      problems.push_back("arc " + std::to_string(k) + " (loop " + std::to_string(A.arcs[k].loop) +
+                         "): the other primal edges leave no free corridor; its edge overlaps them");
+  std::vector<std::vector<Index>> routed = std::move(u.routed);
+  std::vector<Index> routed_crossing = std::move(u.crossing);
 
   std::vector<PrimalEdge> edges;
   for (Index k = 0; k < na; ++k) {

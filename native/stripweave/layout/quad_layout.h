@@ -53,7 +53,8 @@
 //               edge whose corridor holds a crease or the boundary follows
 //               it. The edge crosses its arc once, where the two trees'
 //               distances sum to the least. Edges that would share vertices
-//               are re-routed apart; then the zig-zag of the mesh-edge paths
+//               are re-routed apart (one after another, then ripping up
+//               the edges that close a corridor: primal_edges.cpp); then the zig-zag of the mesh-edge paths
 //               is relaxed on the surface (primal_straightening.cpp).
 //               A region whose creases form a star (crease_structure.h)
 //               takes its vertex at the star's node (a crease junction, end
