@@ -338,7 +338,7 @@ def test_refinement_never_trades_a_defect_for_corners():
     four 90-degree corners weigh 1/N of the mean): it is refused all the same."""
     from stripweave.weave import _less_clean
     fine = {"regions": [{"colour": "none", "genus": 0, "euler_characteristic": 1, "crease_excess": 0,
-                         "crease_exit_excess": 0, "disc": True, "valence": 4, "ideal_valence": 4, "excess_extrema": 0}]}
+                         "disc": True, "valence": 4, "ideal_valence": 4, "excess_extrema": 0}]}
     before = {"valid": True, "patches": [_quad([0, 1, 2, 3], [60, 120, 60, 120])], "vertices": [{}] * 4}
     sliver = {"valid": True, "patches": [_quad([0, 1, 2, 3], [90] * 4) for _ in range(10)] +
               [_quad([2, 3, 4, 5], [90] * 4, defects=["degenerate"])], "vertices": [{}] * 6}
@@ -549,12 +549,10 @@ def test_refinement_never_runs_a_loop_along_a_crease():
     no primal edge ("loop along a crease": two crease regions, not clean). Such sides are
     no anchors, and no refining strip may raise the crease excess (weave._less_conforming)."""
     from stripweave.weave import _less_conforming, _splits
-    ring = [{"colour": "none", "genus": 0, "euler_characteristic": 1, "crease_excess": 0, "crease_exit_excess": 0,
+    ring = [{"colour": "none", "genus": 0, "euler_characteristic": 1, "crease_excess": 0,
              "disc": True, "valence": 4, "ideal_valence": 4, "excess_extrema": 0}]
     assert _less_conforming({"regions": [dict(ring[0], crease_excess=1)]}, {"regions": ring})
     assert not _less_conforming({"regions": ring}, {"regions": [dict(ring[0], crease_excess=1)]})
-    exits = dict(ring[0], crease_excess=1, crease_exit_excess=1)
-    assert _less_conforming({"regions": [exits]}, {"regions": ring})
     side = lambda x0, x1, y0, y1, **f: {"points": [[x0, y0, 0], [x1, y1, 0]], "length": abs(x1 - x0) + abs(y1 - y0), **f}
     layout = {"edges": [side(0, 4, 0, 0), side(4, 4, 0, 1, sharp=True), side(4, 0, 1, 1), side(0, 0, 1, 0)],
               "patches": [{"edges": [0, 1, 2, 3]}]}

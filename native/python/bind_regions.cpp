@@ -89,7 +89,6 @@ py::dict regions_dict(const Surface& s, const std::vector<Singularity>& singular
     d["excess_extrema"] = r.excess_extrema;
     d["crease_problem"] = crease_problem_name(r.crease_problem);
     d["crease_excess"] = r.crease_excess;
-    d["crease_exit_excess"] = r.crease_exit_excess;
     regions.append(d);
   }
 

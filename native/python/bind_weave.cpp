@@ -137,7 +137,6 @@ void bind_weave(py::module_& m) {
           x["excess_extrema"] = g.excess_extrema;
           x["crease_problem"] = crease_problem_name(g.crease_problem);
           x["crease_excess"] = g.crease_excess;
-          x["crease_exit_excess"] = g.crease_exit_excess;
           // Where a loop across the crease would resolve a crease region (crease_structure.h).
           const Index split = regions.creases.regions[r].split_vertex;
           if (g.crease_problem != CreaseProblem::None && split != kInvalid) {

@@ -222,14 +222,8 @@ def score(a):
     # Then the crease regions (issue 17), by how far each is from carrying its creases
     # (crease_excess: nodes, pieces and exits beyond one...), which every loop that
     # separates two crease junctions lowers, where the count of crease regions may not.
-    # Exits beyond one per arc (crease_exit_excess) count once per arc, not once per side: a
-    # crease crossing an arc is an exit of both regions beside it, and the one loop that later
-    # crosses the arc between two exits parts them on both sides at once. Counted per side, a
-    # belt parting a bored block's corners added more than it parted (four long edges crossed,
-    # 23 -> 24) and the crease phase stopped at one patch over the whole block.
     crease = sum(r["crease_excess"] for r in a["regions"])
-    exits = sum(r["crease_exit_excess"] for r in a["regions"])
-    return (genus, badness, crease - 0.5 * exits, colour_flaws(a))
+    return (genus, badness, crease, colour_flaws(a))
 
 
 def seeds_in_order(a, options, skip):

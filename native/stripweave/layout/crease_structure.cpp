@@ -123,17 +123,12 @@ struct Analysis {
     const auto same_arc = [](const auto& a, const auto& b) { return a.first == b.first; };
     const auto twice = std::adjacent_find(exits.begin(), exits.end(), same_arc);
     int repeated = 0;  // exits beyond the first across each arc
-    int repeated_apart = 0;  // ... of them at another vertex than the exit before
-    for (size_t i = 1; i < exits.size(); ++i) {
-      repeated += same_arc(exits[i - 1], exits[i]);
-      repeated_apart += same_arc(exits[i - 1], exits[i]) && exits[i - 1].second != exits[i].second;
-    }
+    for (size_t i = 1; i < exits.size(); ++i) repeated += same_arc(exits[i - 1], exits[i]);
     Index other_end = kInvalid;  // the second node, or exit, that the problem pairs with the first
     ExitPair same_arc_pair;
     if (rc.problem == CreaseProblem::TwoNodes) other_end = rc.problem_vertex;
     if (twice != exits.end()) {
       flag(r, CreaseProblem::SameArc, twice->second, repeated);
-      rc.exit_excess = repeated_apart;
       if (rc.problem == CreaseProblem::SameArc) {
         same_arc_pair = nearest_exits(exits);
         other_end = same_arc_pair.b;

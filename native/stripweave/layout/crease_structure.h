@@ -81,12 +81,6 @@ struct RegionCreases {
   // crossing or a loop along the crease and for a crease apart from the
   // boundary. 0 iff problem is None.
   int excess = 0;
-  // The part of excess that is exits beyond one per arc at distinct points
-  // of it: one loop crossing the arc between two of them parts them, for the
-  // regions on both sides at once (automatic weaving counts it once per arc:
-  // weave.py, score). Not exits at one point (a loop through a crease
-  // junction, whose creases all leave there): no loop parts those.
-  int exit_excess = 0;
 };
 
 struct CreaseStructure {

@@ -164,7 +164,6 @@ Regions compute_regions(const Surface& s, const LoopArrangement& A, const std::v
     r.excess_extrema = excess_extrema(quarters);
     r.crease_problem = out.creases.regions[k].problem;
     r.crease_excess = out.creases.regions[k].excess;
-    r.crease_exit_excess = out.creases.regions[k].exit_excess;
     r.colour = assess_region(r.disc, r.crease_problem != CreaseProblem::None, r.excess_extrema, r.valence,
                              r.total_curvature);
     out.valid &= r.colour != RegionColour::Red;

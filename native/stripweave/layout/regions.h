@@ -72,7 +72,6 @@ struct Region {
   int excess_extrema = 0;            // curvature extrema of one kind beyond the first (assessment.h)
   CreaseProblem crease_problem = CreaseProblem::None;  // crease_structure.h
   int crease_excess = 0;                               // ... and how far from carrying its creases
-  int crease_exit_excess = 0;                          // ... of it, exits beyond one per arc
   RegionColour colour = RegionColour::None;
 };
 
