@@ -24,7 +24,6 @@
 #include "stripweave/layout/primalization.h"
 
 #include <algorithm>
-#include <functional>
 #include <limits>
 #include <queue>
 
@@ -103,16 +102,14 @@ constexpr double kConflict = 1e3;  // normalized units: a path is a few units at
 
 class Untangler {
  public:
-  using Penalty = std::function<double(Index)>;  // per refined vertex entered; infinity: never
-
   std::vector<std::vector<Index>> routed;  // per arc, its edge's refined vertices
   std::vector<Index> crossing;             // per arc, where in routed[k] the edge crosses the arc
 
-  Untangler(const PrimalContext& ctx, const std::vector<Index>& vertex_wedge, std::function<double(Index)> cost,
-            std::function<bool(Index)> blocked, std::vector<std::vector<Index>> routes, std::vector<Index> crossings,
-            std::vector<std::uint8_t> pinned)
+  // edge_cost: per refined edge, what a route pays to run along it.
+  Untangler(const PrimalContext& ctx, const std::vector<Index>& vertex_wedge, std::vector<double> edge_cost,
+            std::vector<std::vector<Index>> routes, std::vector<Index> crossings, std::vector<std::uint8_t> pinned)
       : routed(std::move(routes)), crossing(std::move(crossings)), ctx_(ctx), vertex_wedge_(vertex_wedge),
-        cost_(std::move(cost)), blocked_(std::move(blocked)), pinned_(std::move(pinned)),
+        edge_cost_(std::move(edge_cost)), pinned_(std::move(pinned)),
         use_(ctx.arrangement.mesh.num_vertices(), 0), pinned_use_(use_.size(), 0), nw_(ctx.wedges.count()),
         dist_(2 * static_cast<size_t>(nw_), kInf), pred_(dist_.size(), kInvalid) {
     for (Index k = 0; k < static_cast<Index>(routed.size()); ++k) {
@@ -146,11 +143,13 @@ class Untangler {
     count(k, -1);
     std::vector<Index> path;
     Index at = 0;
-    const Penalty conflict = [&](Index v) { return pinned_use_[v] > 0 ? kInf : use_[v] > 0 ? kConflict : 0.0; };
+    const auto conflict = [&](Index v) { return pinned_use_[v] > 0 ? kInf : use_[v] > 0 ? kConflict : 0.0; };
     if (!search(k, conflict, path, at)) {
       count(k, +1);
       return false;
     }
+    // The victims leave the mesh together; each comes back (reroute) around
+    // k and the victims rerouted before it.
     const std::vector<Index> victims = passing_through(path, k);
     std::vector<std::pair<std::vector<Index>, Index>> before{{routed[k], crossing[k]}};
     for (Index j : victims) before.push_back({routed[j], crossing[j]}), count(j, -1);
@@ -162,15 +161,11 @@ class Untangler {
       if (!reroute(victims[done])) break;
     }
     if (done == victims.size()) return true;
-    // Undo: the victims rerouted so far and the one that failed (on its old
-    // route) out, k back on its route, every victim back on its own.
-    for (size_t h = 0; h <= done; ++h) count(victims[h], -1);
-    count(k, -1);
-    routed[k] = before[0].first, crossing[k] = before[0].second;
-    count(k, +1);
+    // Undo: every route as before (the victims past the failed one are out).
+    set_route(k, before[0]);
     for (size_t h = 0; h < victims.size(); ++h) {
-      routed[victims[h]] = before[h + 1].first, crossing[victims[h]] = before[h + 1].second;
-      count(victims[h], +1);
+      if (h > done) count(victims[h], +1);
+      set_route(victims[h], before[h + 1]);
     }
     return false;
   }
@@ -179,8 +174,7 @@ class Untangler {
   static constexpr double kInf = std::numeric_limits<double>::infinity();
   const PrimalContext& ctx_;
   const std::vector<Index>& vertex_wedge_;
-  std::function<double(Index)> cost_;   // per refined edge
-  std::function<bool(Index)> blocked_;  // per wedge: never entered
+  std::vector<double> edge_cost_;  // per refined edge
   std::vector<std::uint8_t> pinned_;
   std::vector<Index> use_;         // per refined vertex: the edges whose inner vertex it is
   std::vector<Index> pinned_use_;  // ... of them pinned
@@ -195,6 +189,12 @@ class Untangler {
   }
   void count(Index k, Index delta) {
     for_inner(k, [&](Index v) { use_[v] += delta; });
+  }
+  // Put counted edge k on `route` (a path and where it crosses its arc).
+  void set_route(Index k, const std::pair<std::vector<Index>, Index>& route) {
+    count(k, -1);
+    routed[k] = route.first, crossing[k] = route.second;
+    count(k, +1);
   }
 
   // The unpinned edges other than k with an inner vertex on `path`, in arc order.
@@ -212,7 +212,9 @@ class Untangler {
   }
 
   // The cheapest route of arc k's edge: edge costs plus penalty(v) for each
-  // refined vertex it enters (its target excepted), crossing the arc once.
+  // refined vertex it enters (its target excepted; infinity: never entered),
+  // crossing the arc once and never entering a loop crossing.
+  template <class Penalty>
   bool search(Index k, const Penalty& penalty, std::vector<Index>& path, Index& crossing_at) {
     const LoopArc& arc = ctx_.arrangement.arcs[k];
     const Index L = ctx_.regions.arc_left[k], R = ctx_.regions.arc_right[k];
@@ -246,10 +248,10 @@ class Untangler {
       for (Index j = ctx_.wedge_neighbours.offsets[w]; j < ctx_.wedge_neighbours.offsets[w + 1]; ++j) {
         const Index y = ctx_.wedge_neighbours.indices[j];
         const Index r = ctx_.wedge_region[y];
-        if ((r != L && r != R) || blocked_(y)) continue;
+        if ((r != L && r != R) || ctx_.vertex_crossing[ctx_.wedges.vertex[y]]) continue;
         const double extra = y + layer * nw_ == target ? 0.0 : penalty(ctx_.wedges.vertex[y]);
         if (!(extra < kInf)) continue;  // never entered, so never passed through
-        relax(x, y + layer * nw_, d + cost_(ctx_.wedge_neighbour_edge.indices[j]) + extra);
+        relax(x, y + layer * nw_, d + edge_cost_[ctx_.wedge_neighbour_edge.indices[j]] + extra);
       }
       if (layer == 0) {  // across the arc at a vertex already entered
         auto it = std::lower_bound(links.begin(), links.end(), std::pair<Index, Index>(w, kInvalid));
@@ -349,7 +351,9 @@ std::vector<PrimalEdge> route_primal_edges(const PrimalContext& ctx, const std::
   std::vector<Index> order(na);
   for (Index k = 0; k < na; ++k) order[k] = k;
   std::stable_sort(order.begin(), order.end(), [&](Index a, Index b) { return cheapness[a] > cheapness[b]; });
-  Untangler u(ctx, vertex_wedge, cost, blocked, std::move(guess), std::move(guess_crossing), std::move(pinned));
+  std::vector<double> edge_cost(rt.num_edges());
+  for (Index e = 0; e < rt.num_edges(); ++e) edge_cost[e] = cost(e);
+  Untangler u(ctx, vertex_wedge, std::move(edge_cost), std::move(guess), std::move(guess_crossing), std::move(pinned));
   std::vector<Index> stuck;
   for (Index k : order)
     if (u.shared(k) && !u.reroute(k)) stuck.push_back(k);
