@@ -176,3 +176,10 @@ def key(R=10.0, r=2.0, shaft=30.0, shaft_r=1.5):
     ring = Part.makeTorus(R, r)
     rod = Part.makeCylinder(shaft_r, shaft, Vector(R, 0, 0), Vector(1, 0, 0))
     return ring.fuse(rod).removeSplitter()
+
+
+def bored_plate(bores=4, pitch=12.0, radius=3.0, thickness=4.0, width=12.0):
+    """A plate `bores` pitches long with one through bore per pitch, in a row: genus `bores`."""
+    plate = Part.makeBox(bores * pitch, width, thickness)
+    holes = [Part.makeCylinder(radius, thickness, Vector((i + 0.5) * pitch, width / 2, 0)) for i in range(bores)]
+    return plate.cut(holes[0].fuse(holes[1:]) if bores > 1 else holes[0]).removeSplitter()

@@ -19,12 +19,13 @@ import Part
 from FreeCAD import Vector
 
 import stripweave as sw
-from models import box, bumpy_sphere_mesh, filleted_box, key, open_cylinder_shell, torus, torus_knot_tube
+from models import bored_plate, box, bumpy_sphere_mesh, filleted_box, key, open_cylinder_shell, torus, torus_knot_tube
 from stripweave._native import native
 from stripweave.design import Design
 from stripweave.layout import compute_layout
 from stripweave.strips import DesignSession
-from stripweave.weave import WeaveOptions, _assessment_of, _deviation, _oversized, auto_weave, flaws, score
+from stripweave.weave import (STRIPS_BEYOND_CUTS, WeaveOptions, _assessment_of, _deviation, _oversized, auto_weave,
+                              cuts_to_discs, flaws, score)
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 CLI = os.path.join(os.environ.get("STRIPWEAVE_BUILD", os.path.join(REPO, "build")), "stripweave")
@@ -804,3 +805,28 @@ def test_a_loop_leaving_a_crease_along_it_is_anchored_where_its_direction_holds(
             accepted += 1
             w.remove(index)
     assert accepted == 4
+
+
+def test_the_cuts_to_discs_are_two_per_handle_and_one_per_boundary_beyond_the_first():
+    def first_cuts(shape):
+        return cuts_to_discs(native.weave_assessment(DesignSession(sw.from_shape(shape, target_triangles=3000)).native,
+                                                     [], 0))
+    assert first_cuts(Part.makeSphere(5)) == 0
+    assert first_cuts(open_cylinder_shell()) == 1        # an annulus: one cut joins its two circles
+    assert first_cuts(torus()) == 2
+    assert first_cuts(bored_plate(3)) == 6
+
+
+def test_a_part_of_high_genus_gets_the_red_work_its_handles_need():
+    """The red phase's allowance grows with the cuts the topology asks for: with a budget whose
+    fixed reserve (red_reserve budgets) a genus-4 plate outruns with two handles uncut, the
+    plate still ends valid, and it spends more than that reserve to get there."""
+    options = WeaveOptions(budget=10.0)
+    ds = DesignSession(sw.from_shape(bored_plate(4), target_triangles=6000))
+    result = auto_weave(ds, options)
+    a = result.assessment
+    assert a["colours"]["red"] == 0 and a["valid"], result.stopped
+    assert result.work > options.red_reserve * options.budget
+    # The strip cap grows with the cuts too (8 for genus 4), unless the options set one.
+    assert result.max_strips == STRIPS_BEYOND_CUTS + 8
+    assert auto_weave(DesignSession(ds.surface), WeaveOptions(budget=10.0, max_strips=3)).max_strips == 3

@@ -237,7 +237,9 @@ def cmd_weave(args):
 def cmd_batch(args):
     from .batch import run_batch
     weave_args = ["--target-triangles", str(args.target_triangles), "--budget", f"{args.budget:g}",
-                  "--max-strips", str(args.max_strips), "--patches", str(args.patches), "--seed", str(args.seed)]
+                  "--patches", str(args.patches), "--seed", str(args.seed)]
+    if args.max_strips is not None:
+        weave_args += ["--max-strips", str(args.max_strips)]
     if args.weave_time_limit is not None:
         weave_args += ["--time-limit", f"{args.weave_time_limit:g}"]
     if args.feature_angle is not None:
@@ -321,7 +323,9 @@ def build_parser():
     p.add_argument("--auto", action="store_true", help="complete the design automatically")
     p.add_argument("--out", metavar="DIR", required=True, help="folder for the outputs")
     p.add_argument("--step", action="store_true", help="also fit NURBS patches and write DIR/patches.step")
-    p.add_argument("--max-strips", type=int, default=40, help="strips at most, the given ones included")
+    p.add_argument("--max-strips", type=int, default=None,
+                   help="strips at most, the given ones included (default: 40 beyond the cuts the part's handles "
+                        "and holes ask for, two a handle and one a hole beyond the first)")
     p.add_argument("--patches", "--coarseness", type=int, default=0, metavar="N",
                    help="target patch count (default 0: as coarse as the assessment allows)")
     p.add_argument("--no-features", action="store_true", help="do not align the field to sharp features")
@@ -362,7 +366,7 @@ def build_parser():
     p.add_argument("--weave-time-limit", type=float, default=None, metavar="S",
                    help="weave's --time-limit (its wall-clock safety net for weaving)")
     p.add_argument("--budget", type=float, default=WeaveOptions.budget, metavar="UNITS", help="weave's --budget")
-    p.add_argument("--max-strips", type=int, default=40, help="weave's --max-strips")
+    p.add_argument("--max-strips", type=int, default=None, help="weave's --max-strips")
     p.add_argument("--patches", type=int, default=0, metavar="N", help="weave's --patches")
     p.add_argument("--no-features", action="store_true", help="weave's --no-features")
     p.add_argument("--boundary", choices=("aligned", "trimmed"), default=None, help="weave's --boundary")

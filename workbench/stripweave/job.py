@@ -174,7 +174,7 @@ def _releasing_locks(run):
 
 
 @_releasing_locks
-def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, features=True, boundary=None,
+def weave(model, design=None, auto=True, out=None, max_strips=None, patches=0, features=True, boundary=None,
           seed=0, step=False, tolerance=None, verbose=False, progress=None, target_triangles=30000,
           feature_angle_deg=None, preview=True, symmetry=None, symmetry_tolerance=1e-3, symmetric_mesh=True, _locks=None,
           **weave_options):
@@ -184,7 +184,8 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
     design      None (start empty), a Design, or a design.json path: its strips are kept, first
     auto        complete the design automatically (False: just evaluate the given design)
     out         folder for design.json, layout.json, report.json, preview.png (None: write nothing)
-    max_strips  strips at most (the given ones included); patches: target patch count (0: coarse)
+    max_strips  strips at most (the given ones included; None: 40 beyond the cuts the part's
+                handles and holes ask for, weave.cuts_to_discs); patches: target patch count (0: coarse)
     features    align to sharp feature curves; boundary: "aligned" | "trimmed" (default: the design's)
     seed        varies which seed points are tried first (deterministic)
     budget, time_limit_s, refine, uncovered, ...: see weave.WeaveOptions (budget: deterministic
@@ -248,11 +249,13 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
     ds = DesignSession(surface, design, loop_session=loop_session, features=features)
     lap("design")
     log, stopped, work, cancelled = [], "not asked (auto off)", 0.0, 0
+    cap = max_strips if max_strips is not None else len(design.strips)
     if auto:
         result = auto_weave(ds, WeaveOptions(max_strips=max_strips, patches=patches, seed=seed, verbose=verbose,
                                              symmetry=tuple(symmetries), symmetry_tolerance=symmetry_tolerance,
                                              **weave_options))
         log, stopped, work, cancelled = result.log, result.stopped, result.work, result.cancelled_queries
+        cap = result.max_strips
     # No loop query follows: the search scratch space (as large as g') goes back before the
     # layout needs its memory.
     loop_session.native.release_workspaces()
@@ -272,7 +275,7 @@ def weave(model, design=None, auto=True, out=None, max_strips=40, patches=0, fea
         # Where the layout stays invalid and what to try (issue 18): in report.json and every message.
         every_red = red_regions(ds, limit=None)
         report["red_regions"] = every_red[:5]
-        red_text = why_red(report["red_regions"], report["regions"]["red"], stopped, max_strips,
+        red_text = why_red(report["red_regions"], report["regions"]["red"], stopped, cap,
                            weave_options.get("budget", WeaveOptions.budget))
     crease_text = None
     if report["valid"] and not report.get("crease_conforming", True):

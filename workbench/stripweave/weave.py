@@ -50,7 +50,8 @@ is no further from valid and clean under it, and where crease regions remain the
 phase then runs once more under the band: the loops that part creases running side by
 side run beside the strips along them (_crease_phase_under_the_band). It stops at
 the deviation or patch target (no candidate that would pass refine_patches is taken), the
-work budget (past which only red regions are worked on, up to red_reserve budgets in all;
+work budget (past which only red regions are worked on, up to red_reserve budgets in all
+plus one red strip's work per cut the part's handles and holes ask for, cuts_to_discs;
 the budget counts from the first valid design, so the work validity takes leaves the
 crease, colour and refining phases their whole budget), or the strip limit. Refinement
 never takes a strip that leaves a red region, more crease excess, more crease inside
@@ -83,6 +84,7 @@ import sys
 import threading
 import time
 from dataclasses import dataclass, field, replace
+from typing import Optional
 
 from ._native import native
 
@@ -94,7 +96,8 @@ _DEBUG_DESIGN = os.environ.get("STRIPWEAVE_WEAVE_DEBUG")
 @dataclass
 class WeaveOptions:
     """What automatic weaving aims at (see the module doc)."""
-    max_strips: int = 40            # strips in the design at most (the user's included)
+    max_strips: Optional[int] = None  # strips in the design at most (the user's included); None: the cuts
+                                    # the topology asks for plus STRIPS_BEYOND_CUTS (_Weaver.max_strips)
     patches: int = 0                # target patch count (0: as coarse as the colours allow)
     uncovered: float = 0.04         # stop seeding uncovered areas below this fraction of the surface
     seeds_per_region: int = 3       # seed points tried per region (centre first)
@@ -103,7 +106,8 @@ class WeaveOptions:
     budget: float = 200.0           # work units (module doc), counted from the first valid design; past it,
                                     # only red regions are worked on
     time_limit_s: float = 90.0      # wall-clock safety net, same effect (inf: none)
-    red_reserve: float = 4.0        # red regions may spend this many budgets (and time limits) in all, then
+    red_reserve: float = 4.0        # red regions may spend this many budgets (and time limits) in all, plus
+                                    # the work of a red strip per cut of the topology (red_allowance), then
                                     # weaving stops with them left: a run never loops forever (a model on
                                     # which no loop ever makes a region a disc looped until killed)
     band: float = 0.03              # refinement's compatibility_band (empty designs), in bbox diagonals (0: the paper's)
@@ -133,7 +137,7 @@ class WeaveOptions:
                                     # (a GUI's Cancel; with the loop session's cancel() it stops within a step)
 
     def check(self):
-        if self.max_strips < 0:
+        if self.max_strips is not None and self.max_strips < 0:
             raise native.InputError(f"max strips must be 0 or more, got {self.max_strips}")
         if self.patches < 0:
             raise native.InputError(f"the patch target must be 0 (none) or more, got {self.patches}")
@@ -167,6 +171,7 @@ class WeaveResult:
     work: float = 0.0                            # work units spent (module doc)
     cancelled_queries: int = 0                   # loop queries cut by the timeout (machine-dependent)
     capped_queries: int = 0                      # loop queries stopped by query_polls (no proposal there)
+    max_strips: int = 0                          # the strip cap weaving had (_Weaver.max_strips)
 
 
 def extra_extrema(region):
@@ -224,6 +229,24 @@ def score(a):
     # separates two crease junctions lowers, where the count of crease regions may not.
     crease = sum(r["crease_excess"] for r in a["regions"])
     return (genus, badness, crease, colour_flaws(a))
+
+
+def cuts_to_discs(a):
+    """How many cuts the red regions of an assessment need before every region is a disc:
+    two per handle (a loop across it and the loop along it that completes the cut; a loop
+    lowers the genus by one at most) and one per boundary beyond the first (a cut joining
+    two boundaries makes them one)."""
+    return sum(2 * r["genus"] + max(0, 1 - r["euler_characteristic"] - 2 * r["genus"])
+               for r in a["regions"] if r["colour"] == "red")
+
+
+def work_per_red_strip(options):
+    """The work one red strip takes at most with these options: a capped loop query and a
+    predicted layout at each of a region's seed points, then deriving the design with the
+    strip and assessing it (the module doc's units)."""
+    polls = options.query_polls or WeaveOptions.query_polls
+    query = WORK_QUERY + WORK_PER_POLL * polls
+    return options.seeds_per_region * (query + WORK_PREDICT) + WORK_DERIVE + WORK_ASSESS
 
 
 def seeds_in_order(a, options, skip):
@@ -292,6 +315,7 @@ def _say(options, text):
 WORK_QUERY, WORK_PER_POLL, WORK_ASSESS, WORK_DERIVE, WORK_LAYOUT, WORK_RESTORE = 0.5, 0.04, 0.5, 4.0, 1.0, 0.0
 WORK_PREDICT = 1.5    # a layout with its regions' assessment (about 0.1 s on a 30K-triangle part)
 WORK_PER_TARGET_PATCH = 5.0   # the budget a patch target gets at least, per patch asked for
+STRIPS_BEYOND_CUTS = 40       # the default strip cap past the cuts the topology asks for (the old fixed cap)
 
 
 class _Weaver:
@@ -304,6 +328,7 @@ class _Weaver:
         self.capped = 0             # loop queries stopped by query_polls
         self.capped_all_directions = False   # an all-directions query ran past query_polls (proposals)
         self.valid_at = None        # (work, seconds) when the design first had no red region
+        self.cuts = None            # cuts the red regions of the first assessment need (red_allowance)
         self.looking_harder = False  # red regions ran out of seed points once (_weave)
         self.user_strips = len(ds.design.strips)
         self.groups = {}            # index of an added strip -> 1 + its symmetric images, added after it
@@ -339,10 +364,44 @@ class _Weaver:
         work, seconds = self.quality_work(elapsed)
         return work >= self.options.budget or seconds > self.options.time_limit_s
 
+    def count_cuts(self, a):
+        """Fix the cuts validity takes, from the first assessment (red_allowance)."""
+        if self.cuts is None:
+            self.cuts = cuts_to_discs(a)
+
+    def max_strips(self):
+        """The strip cap: the options' own, else the cuts the topology asks for (cuts_to_discs)
+        plus STRIPS_BEYOND_CUTS. A fixed cap of 40 stopped a plate with 23 bores, which
+        needs some 46 strips to be valid at all, with three regions still red; the strips
+        beyond the cuts are what the creases, colours and refinement may add."""
+        if self.options.max_strips is not None:
+            return self.options.max_strips
+        return STRIPS_BEYOND_CUTS + (self.cuts or 0)
+
+    def red_allowance(self):
+        """(work units, seconds) red regions may spend in all: red_reserve budgets (and time
+        limits), plus the work of one red strip per cut the part's topology asks for
+        (cuts_to_discs). A fixed reserve is what a part of little topology needs; a loop
+        lowers a region's genus by one at most, so a plate with 23 bores needs some 46 strips
+        where a sphere needs two, and with a fixed reserve every part of high genus ran out
+        of work with its handles half cut. The wall-clock net stays red_reserve time limits:
+        it guards against a slow machine, not against the topology (and a batch's per-model
+        limit, 600 s by default, must find the weave done and its files written)."""
+        o = self.options
+        work = o.red_reserve * o.budget + (self.cuts or 0) * work_per_red_strip(o)
+        return work, o.red_reserve * o.time_limit_s
+
     def out_of_red_work(self, elapsed):
-        """Whether even red regions must stop: red_reserve budgets (or time limits) spent."""
-        reserve = self.options.red_reserve
-        return self.work >= reserve * self.options.budget or elapsed() > reserve * self.options.time_limit_s
+        """Whether even red regions must stop: their allowance (red_allowance) spent."""
+        work, seconds = self.red_allowance()
+        return self.work >= work or elapsed() > seconds
+
+    def why_out_of_red(self, elapsed):
+        """Why red regions stopped (out_of_red_work): their work allowance, or the wall clock."""
+        work, _ = self.red_allowance()
+        if self.work >= work:
+            return f"work budget, red allowance of {work:g} units spent (red regions remain)"
+        return f"time limit (safety net), {self.options.red_reserve:g} times over (red regions remain)"
 
     def why_out(self, elapsed):
         return "work budget" if self.quality_work(elapsed)[0] >= self.options.budget else "time limit (safety net)"
@@ -807,7 +866,7 @@ def _refine(w, ds, options, a, result, elapsed):
         w.session.max_query_polls = min(options.query_polls or options.refine_query_polls, options.refine_query_polls)
     tried = set()
     predicted = set()     # loops predicted in the current design (_loop_key): seeds often share one
-    while len(ds.design.strips) < options.max_strips and not w.out_of_work(elapsed):
+    while len(ds.design.strips) < w.max_strips() and not w.out_of_work(elapsed):
         deviation = _deviation(layout)
         patches = len(layout["patches"])
         oversized = _oversized(layout, options.max_area_ratio)
@@ -895,7 +954,7 @@ def _refine(w, ds, options, a, result, elapsed):
         a, layout = after, after_layout
         predicted.clear()
     else:
-        result.stopped = "max strips" if len(ds.design.strips) >= options.max_strips else w.why_out(elapsed)
+        result.stopped = "max strips" if len(ds.design.strips) >= w.max_strips() else w.why_out(elapsed)
     return a
 
 
@@ -1048,6 +1107,7 @@ def _weave(w, ds, options, start=None):
     start = time.perf_counter() if start is None else start
     result = WeaveResult()
     a = w.assess()
+    w.count_cuts(a)
     skip = set()          # seed points that gave nothing useful
     stalls = 0            # consecutive red-phase additions that did not lower the score
 
@@ -1055,7 +1115,7 @@ def _weave(w, ds, options, start=None):
         return time.perf_counter() - start
 
     while True:
-        if len(ds.design.strips) >= options.max_strips:
+        if len(ds.design.strips) >= w.max_strips():
             result.stopped = "max strips"
             break
         current = score(a)
@@ -1071,7 +1131,7 @@ def _weave(w, ds, options, start=None):
             result.stopped = w.why_out(elapsed)
             break
         if not valid and w.out_of_red_work(elapsed):
-            result.stopped = f"{w.why_out(elapsed)}, {options.red_reserve:g} times over (red regions remain)"
+            result.stopped = w.why_out_of_red(elapsed)
             break
         if valid and a["crossings"] and options.refine and \
                 w.quality_work(elapsed)[0] >= options.colour_share * options.budget:
@@ -1169,6 +1229,7 @@ def _weave(w, ds, options, start=None):
     result.assessment = a
     result.time_ms = elapsed() * 1000.0
     result.work, result.cancelled_queries, result.capped_queries = w.work, w.cancelled, w.capped
+    result.max_strips = w.max_strips()
     _say(options, f"{result.stopped}: {len(ds.design.strips)} strips ({w.user_strips} given, "
                   f"{len(ds.design.strips) - w.user_strips} added), red {a['colours']['red']}, crease {a['colours']['crease']}, "
                   f"orange {a['colours']['orange']}, "

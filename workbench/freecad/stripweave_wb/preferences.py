@@ -9,7 +9,9 @@ Parameters (``User parameter:BaseApp/Preferences/Mod/StripWeave``)::
                              library's own (a fraction of the part's size)
     BoundaryMode     string  how a New design's dual curves meet open boundaries:
                              "aligned" or "trimmed"
-    AutoWeaveMaxStrips int   strips at most after Auto weave (the user's included; 40)
+    AutoWeaveMaxStrips int   strips at most after Auto weave (the user's included); 0:
+                             automatic, 40 beyond the cuts the part's handles and holes
+                             ask for (stripweave.weave.WeaveOptions.max_strips)
 
 Readers take these at the moment a command runs (no caching), so a change on
 the page applies to the next command.  No Qt at import: the page class is
@@ -23,7 +25,7 @@ DEFAULT_TARGET_TRIANGLES = 30000
 DEFAULT_FEATURE_ANGLE_DEG = 30.0
 DEFAULT_TOLERANCE = 0.0
 BOUNDARY_MODES = ("aligned", "trimmed")
-DEFAULT_AUTO_WEAVE_MAX_STRIPS = 40
+DEFAULT_AUTO_WEAVE_MAX_STRIPS = 0
 
 
 def group():
@@ -50,7 +52,9 @@ def boundary_mode():
 
 
 def auto_weave_max_strips():
-    return max(1, int(group().GetInt("AutoWeaveMaxStrips", DEFAULT_AUTO_WEAVE_MAX_STRIPS)))
+    """The strip cap of Auto weave, or None for the automatic one (by the part's topology)."""
+    value = int(group().GetInt("AutoWeaveMaxStrips", DEFAULT_AUTO_WEAVE_MAX_STRIPS))
+    return value if value > 0 else None
 
 
 def save(target_triangles=None, feature_angle=None, tolerance=None, boundary_mode=None, max_strips=None):
@@ -101,7 +105,8 @@ def _page_class():
             self.boundary.addItems(list(BOUNDARY_MODES))
             self.max_strips = QtGui.QSpinBox()
             self.max_strips.setObjectName("AutoWeaveMaxStrips")
-            self.max_strips.setRange(1, 1000)
+            self.max_strips.setRange(0, 1000)
+            self.max_strips.setSpecialValueText("automatic")
             layout.addRow("Target triangles (Prepare surface)", self.triangles)
             layout.addRow("Feature angle", self.angle)
             layout.addRow("Patch fitting tolerance", self.tolerance)
@@ -113,7 +118,7 @@ def _page_class():
             self.angle.setValue(feature_angle())
             self.tolerance.setValue(tolerance() or 0.0)
             self.boundary.setCurrentIndex(BOUNDARY_MODES.index(boundary_mode()))
-            self.max_strips.setValue(auto_weave_max_strips())
+            self.max_strips.setValue(auto_weave_max_strips() or 0)
 
         def saveSettings(self):
             save(self.triangles.value(), self.angle.value(), self.tolerance.value(),

@@ -94,6 +94,10 @@ def _start(doc_name, name, opts):
         if ds is None:
             return 0.0, "deriving the design's strips"
         n = len(ds.design.strips)
+        if opts.max_strips is None:
+            # The cap follows the part's topology (WeaveOptions.max_strips): no fraction of it
+            # to show, only that the strips grow.
+            return 0.05 + 0.9 * n / (n + 20.0), "weaving: {} strips".format(n)
         return (0.05 + 0.9 * min(1.0, n / max(1, opts.max_strips)),
                 "weaving: {} strips (at most {})".format(n, opts.max_strips))
 
