@@ -15,7 +15,7 @@ try:
     from freecad.stripweave_wb import design_model, preferences, surface_model
 
     result["defaults"] = [preferences.target_triangles(), preferences.feature_angle(), preferences.tolerance(),
-                          preferences.boundary_mode()]
+                          preferences.boundary_mode(), preferences.auto_weave_max_strips()]
     grp = App.ParamGet("User parameter:BaseApp/Preferences/Mod/StripWeave")
     grp.SetInt("TargetTriangles", 3000)      # as the preferences page writes them
     grp.SetFloat("FeatureAngle", 40.0)
@@ -32,6 +32,8 @@ try:
     doc.recompute()
     result["design"] = [json.loads(design.DesignJson)["options"]["boundary"], design.Boundary]
     result["tolerance"] = preferences.tolerance()
+    preferences.save(max_strips=12)
+    result["max_strips"] = preferences.auto_weave_max_strips()
     try:
         preferences.save(boundary_mode="sideways")
     except ValueError as exc:
