@@ -241,9 +241,11 @@ def cuts_to_discs(a):
 
 
 def work_per_red_strip(options):
-    """The work one red strip takes at most with these options: a capped loop query and a
-    predicted layout at each of a region's seed points, then deriving the design with the
-    strip and assessing it (the module doc's units)."""
+    """An estimate of the work one red strip takes with these options: a capped loop query
+    and a predicted layout at each of a region's seed points, then deriving the design with
+    the strip and assessing it (the module doc's units; 58.5 with the defaults). A strip
+    found only at a crossing or bridge anchor, or among ranked alternatives, costs more
+    (60 to 130 units on a genus-15 NIST part whose queries run to their cap)."""
     polls = options.query_polls or WeaveOptions.query_polls
     query = WORK_QUERY + WORK_PER_POLL * polls
     return options.seeds_per_region * (query + WORK_PREDICT) + WORK_DERIVE + WORK_ASSESS
