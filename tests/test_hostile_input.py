@@ -231,6 +231,8 @@ def test_red_regions_have_a_bounded_reserve(box_mesh):
     ds = DesignSession(sw.from_mesh(*box_mesh, target_triangles=0), Design())
     result = auto_weave(ds, WeaveOptions(budget=0.5, red_reserve=1.0, refine=False))
     assert result.stopped.endswith("(red regions remain)")
+    # A sphere asks for no cut: the allowance is the reserve alone, and the stop names it (not the clock).
+    assert "red allowance of 0.5 units spent" in result.stopped
     assert result.assessment["colours"]["red"] > 0
     assert len(ds.design.strips) <= 1
 

@@ -829,4 +829,6 @@ def test_a_part_of_high_genus_gets_the_red_work_its_handles_need():
     assert result.work > options.red_reserve * options.budget
     # The strip cap grows with the cuts too (8 for genus 4), unless the options set one.
     assert result.max_strips == STRIPS_BEYOND_CUTS + 8
-    assert auto_weave(DesignSession(ds.surface), WeaveOptions(budget=10.0, max_strips=3)).max_strips == 3
+    capped = DesignSession(ds.surface)
+    result = auto_weave(capped, WeaveOptions(budget=10.0, max_strips=3))
+    assert result.max_strips == 3 and len(capped.design.strips) == 3 and result.stopped == "max strips"

@@ -10,7 +10,8 @@
 //   little; that is ignored), without the refined mesh. seeds_per_region=0
 //   skips the seeds and the coverage (scoring a candidate). Keys (model units):
 //     regions   [{"valence", "disc", "colour", "total_curvature",
-//                 "ideal_valence", "area", "singularities" (count),
+//                 "ideal_valence", "area", "euler_characteristic", "genus",
+//                 "boundaries" (its boundary cycles), "singularities" (count),
 //                 "singularity_quarters" (each one's index in quarters: +1 at a
 //                 cube corner, -1 where five patches meet),
 //                 "seeds": [[x,y,z], ...], "clearance": [...]}]
@@ -126,6 +127,7 @@ void bind_weave(py::module_& m) {
           x["disc"] = g.disc;
           x["euler_characteristic"] = g.euler_characteristic;
           x["genus"] = g.genus;
+          x["boundaries"] = g.boundaries;
           x["colour"] = colour_name(g.colour);
           x["total_curvature"] = g.total_curvature;
           x["ideal_valence"] = ideal_valence(g.total_curvature);

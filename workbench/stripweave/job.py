@@ -249,7 +249,7 @@ def weave(model, design=None, auto=True, out=None, max_strips=None, patches=0, f
     ds = DesignSession(surface, design, loop_session=loop_session, features=features)
     lap("design")
     log, stopped, work, cancelled = [], "not asked (auto off)", 0.0, 0
-    cap = max_strips if max_strips is not None else len(design.strips)
+    cap = max_strips        # the strip cap weaving had (why_red's hint; "max strips" needs auto)
     if auto:
         result = auto_weave(ds, WeaveOptions(max_strips=max_strips, patches=patches, seed=seed, verbose=verbose,
                                              symmetry=tuple(symmetries), symmetry_tolerance=symmetry_tolerance,

@@ -236,8 +236,7 @@ def cuts_to_discs(a):
     two per handle (a loop across it and the loop along it that completes the cut; a loop
     lowers the genus by one at most) and one per boundary beyond the first (a cut joining
     two boundaries makes them one)."""
-    return sum(2 * r["genus"] + max(0, 1 - r["euler_characteristic"] - 2 * r["genus"])
-               for r in a["regions"] if r["colour"] == "red")
+    return sum(2 * r["genus"] + max(0, r["boundaries"] - 1) for r in a["regions"] if r["colour"] == "red")
 
 
 def work_per_red_strip(options):
@@ -246,6 +245,7 @@ def work_per_red_strip(options):
     the strip and assessing it (the module doc's units; 58.5 with the defaults). A strip
     found only at a crossing or bridge anchor, or among ranked alternatives, costs more
     (60 to 130 units on a genus-15 NIST part whose queries run to their cap)."""
+    # query_polls 0 leaves queries uncapped: the default cap stands for what one costs.
     polls = options.query_polls or WeaveOptions.query_polls
     query = WORK_QUERY + WORK_PER_POLL * polls
     return options.seeds_per_region * (query + WORK_PREDICT) + WORK_DERIVE + WORK_ASSESS
@@ -1025,7 +1025,7 @@ def red_regions(ds, limit=5):
     loops (a disc has genus 0 and one boundary loop), for report.json's "red_regions" (limit
     None: all of them)."""
     return [{"position": [float(x) for x in r["seeds"][0]] if r["seeds"] else None, "area": float(r["area"]),
-             "genus": int(r["genus"]), "boundaries": int(2 - 2 * r["genus"] - r["euler_characteristic"])}
+             "genus": int(r["genus"]), "boundaries": int(r["boundaries"])}
             for r in _largest(ds, "red", limit)]
 
 
