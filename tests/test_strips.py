@@ -474,3 +474,37 @@ def test_a_failing_solve_leaves_every_kept_strip_derived(failing):
     with pytest.raises(sw.InputError):
         session.add_strip(list(CUBE_BELTS[2]))
     assert len(session.design.strips) == 2 and session.native.strip_count == 2
+
+
+def test_a_loop_its_strip_does_not_cover_still_keeps_later_loops_from_running_along_it(torus_surface):
+    """Where a strip does not reach the corners of its own loop's triangles (a strip stopped at
+    once by a fold-over or a singularity, or held in a band narrower than a triangle), no
+    isocurve disables anything there, and later loops ran along the loop through its
+    vertices, which the parameterization then refuses (a plate with 23 bores: 20 strips of
+    no width, and every proposal of its last cut refused so). The loop's own direction
+    disables them instead: with a band of 1e-3 every node at a vertex within a quarter edge
+    of the meridian (so a corner of a triangle it runs through) and within 40 degrees of its
+    tangent is in the mask. The meridian: the circle of radius 3 about (10, 0, 0), y = 0."""
+    ds = DesignSession(torus_surface, Design([MERIDIAN], options={"compatibility_band": 1e-3}))
+    session = ds.loop_session.native
+    mask = set(ds.native.disabled_nodes())
+    v, t = torus_surface.vertices, torus_surface.triangles
+    edge = np.linalg.norm(v[t[:, 0]] - v[t[:, 1]], axis=1).mean()
+    p = np.asarray(ds.native.strip(0)["points"])
+    polyline = np.concatenate([p[i] + np.linspace(0, 1, 20)[:, None] * (p[(i + 1) % len(p)] - p[i])
+                               for i in range(len(p))])
+    candidates = np.where((v[:, 0] > 5) & (np.abs(v[:, 1]) < edge))[0]
+    distance = np.array([np.linalg.norm(polyline - v[a], axis=1).min() for a in candidates])
+    # Off the band (1e-3), within a quarter edge: the loop runs through a triangle at each.
+    near = set(candidates[(distance > 1e-3) & (distance < 0.25 * edge)].tolist())
+    along = []
+    for n in range(session.graph_stats()["gprime_nodes"]):
+        a, _ = session.node_vertices(n)
+        if a not in near:
+            continue
+        tangent = np.cross([0.0, 1.0, 0.0], [v[a][0] - 10.0, 0.0, v[a][2]])
+        d = np.asarray(session.node_tangent(n))
+        if abs(d @ tangent) / (np.linalg.norm(d) * np.linalg.norm(tangent)) > math.cos(math.radians(40)):
+            along.append(n)
+    assert len(near) >= 10 and len(along) > 200   # the case exists on this mesh
+    assert all(n in mask for n in along)

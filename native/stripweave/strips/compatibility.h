@@ -20,6 +20,12 @@
 //   parameterization would have to make both curves isocurves of the same
 //   coordinate and refuses the design. Such edges are disabled as well,
 //   wherever the strip reaches.
+//   Where the strip does not cover its own loop (no width there, or a band
+//   narrower than a triangle), the corners of the triangles the loop runs
+//   through disable the nodes within max_angle_deg of the loop's direction:
+//   a later loop may cross it but never run along it through its vertices,
+//   which the parameterization refuses (contradicting_meetings), whatever
+//   the strip's width.
 //   Returned sorted, without repeats.
 #pragma once
 
