@@ -24,8 +24,8 @@ from stripweave._native import native
 from stripweave.design import Design
 from stripweave.layout import compute_layout
 from stripweave.strips import DesignSession
-from stripweave.weave import (STRIPS_BEYOND_CUTS, WeaveOptions, _assessment_of, _deviation, _oversized, auto_weave,
-                              cuts_to_discs, flaws, score)
+from stripweave.weave import (STRIPS_BEYOND_CUTS, WeaveOptions, _assessment_of, _deviation, _oversized, _weave,
+                              auto_weave, cuts_to_discs, flaws, score)
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 CLI = os.path.join(os.environ.get("STRIPWEAVE_BUILD", os.path.join(REPO, "build")), "stripweave")
@@ -674,11 +674,14 @@ def test_refinement_refused_by_the_band_refines_under_the_papers_mask():
     85-degree angle) refuses a strip the colour phase added (the direction of its anchor is
     disabled by the strips after it). That refusal is internal: weaving goes on without an
     error, under the design's own mask (the paper's), and still refines (it used to stop
-    there, no strip added). At the default 60 degrees this plate's design takes the band."""
+    there, no strip added). At the default 60 degrees this plate's design takes the band. The
+    budget and patch target leave refinement room: under the default 200 units the colour
+    phase of this plate can take all but what refinement's first candidates cost."""
     plate = Part.makeBox(100, 60, 5)
     for k in range(3):
         plate = plate.cut(Part.makeCylinder(4, 5, FreeCAD.Vector(25 + 25 * k, 30, 0)))
-    report = sw.weave(sw.from_shape(plate, target_triangles=12000), refine_angle_deg=85.0)
+    report = sw.weave(sw.from_shape(plate, target_triangles=12000), refine_angle_deg=85.0, budget=400.0,
+                      refine_patches=400)
     assert report["valid"]
     assert report["design"].options.get("compatibility_band") is None     # the paper's mask kept
     refined = [e for e in report["log"] if e["reason"] == "corner deviation"]
@@ -832,3 +835,109 @@ def test_a_part_of_high_genus_gets_the_red_work_its_handles_need():
     capped = DesignSession(ds.surface)
     result = auto_weave(capped, WeaveOptions(budget=10.0, max_strips=3))
     assert result.max_strips == 3 and len(capped.design.strips) == 3 and result.stopped == "max strips"
+
+
+class _ScriptedWeave:
+    """The policy of _weave alone, on a scripted part (no geometry): one red annulus (a
+    region with two boundaries: one cut makes it a disc) whose cut exists only once some
+    crease strip has changed the regions around it, and `creases` crease regions, each
+    taken by one strip of its own. It stands for what a real part does: each strip moves
+    the regions and the field, so a red seed point that gave nothing may cut later."""
+
+    class _Strip:
+        def __init__(self, name, point):
+            self.name, self.extra = name, {}
+            self.anchors = [type("Anchor", (), {"to_list": lambda _, p=point: list(p[:3])})()]
+
+    def __init__(self, options, creases, max_strips):
+        self.options, self.creases, self.cap = options, creases, max_strips
+        self.design = type("Design", (), {})()
+        self.design.strips = []
+        self.looking_harder = self.red_again = False
+        self.work, self.cancelled, self.capped, self.spent, self.user_strips = 0.0, 0, 0, {}, 0
+
+    def _names(self):
+        return [s.name for s in self.design.strips]
+
+    def _assessment(self, names):
+        def region(colour, genus, boundaries, excess, seeds):
+            return {"colour": colour, "genus": genus, "boundaries": boundaries,
+                    "euler_characteristic": 2 - 2 * genus - boundaries, "crease_excess": excess,
+                    "disc": colour != "red", "valence": 4, "ideal_valence": 4, "excess_extrema": 0,
+                    "area": 1.0, "seeds": seeds}
+        cut = "red" in names
+        regions = [region("none" if cut else "red", 0, 1 if cut else 2, 0, [(0.0, 0.0, 0.0)])]
+        if "useless" in names:  # a loop that misses the cut splits off a second annulus
+            regions.append(region("red", 0, 2, 0, []))
+        for k in range(self.creases):
+            done = f"crease {k}" in names
+            regions.append(region("none" if done else "crease", 0, 1, 0 if done else 1, [(float(k + 1), 0.0, 0.0)]))
+        colours = {c: sum(r["colour"] == c for r in regions) for c in ("red", "crease", "orange", "yellow")}
+        return {"regions": regions, "colours": colours, "valid": colours["red"] == 0, "crossings": 4,
+                "uncovered": {"found": False, "area": 0.0, "largest_area": 0.0, "surface_area": 1.0, "point": None}}
+
+    def _loop_at(self, point):
+        """The strip a seed point proposes: the red region's cut (once a crease strip exists),
+        or the crease strip of the crease region seeded there."""
+        if point[0] == 0.0:
+            return "red" if any(n.startswith("crease") for n in self._names()) else "useless"
+        return f"crease {int(point[0]) - 1}"
+
+    # What _weave asks of its weaver.
+    def assess(self, extra=(), seeds=True):
+        return self._assessment(self._names() + list(extra))
+
+    def candidates(self, points, alternatives, current, every_point=False):
+        out = []
+        for p in points:
+            name = self._loop_at(p)
+            a = self.assess([name])
+            out.append((score(a), 1.0, name, p, a))
+        return sorted(out, key=lambda c: (c[0], c[1]))
+
+    def add(self, loop, point):
+        self.design.strips.append(self._Strip(loop, point))
+        return len(self.design.strips) - 1
+
+    def remove(self, index):
+        del self.design.strips[index]
+
+    def count_cuts(self, a):
+        pass
+
+    def max_strips(self):
+        return self.cap
+
+    def became_valid(self, elapsed):
+        pass
+
+    def quality_work(self, elapsed):
+        return 0.0, 0.0
+
+    def out_of_work(self, elapsed):
+        return False
+
+    def out_of_red_work(self, elapsed):
+        return False
+
+
+def test_red_seed_points_are_asked_again_once_the_other_colours_are_done():
+    """The red annulus's seed point gives nothing until a crease strip changes its
+    neighbourhood. Once the crease regions are done its seed points are asked once more, and
+    the design ends valid (before, the point stayed skipped and weaving ended with no layout)."""
+    options = WeaveOptions(refine=False)
+    w = _ScriptedWeave(options, creases=1, max_strips=10)
+    result = _weave(w, w, options)
+    assert [s.name for s in w.design.strips] == ["crease 0", "red"]
+    assert result.assessment["colours"]["red"] == 0
+
+
+def test_other_colours_leave_room_under_the_cap_for_the_cuts_red_regions_need():
+    """Two crease regions and a cap of 2 strips, with the red annulus (one cut) still red: the
+    crease phase stops at one strip, leaving the last one to the cut, and the design ends
+    valid (before, both crease strips took the cap and weaving ended invalid)."""
+    options = WeaveOptions(refine=False)
+    w = _ScriptedWeave(options, creases=2, max_strips=2)
+    result = _weave(w, w, options)
+    assert [s.name for s in w.design.strips] == ["crease 0", "red"]
+    assert result.assessment["colours"]["red"] == 0 and result.stopped == "max strips"

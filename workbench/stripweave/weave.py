@@ -57,6 +57,13 @@ crease, colour and refining phases their whole budget), or the strip limit. Refi
 never takes a strip that leaves a red region, more crease excess, more crease inside
 patches, or more defective patches and vertices, whatever the corners gain.
 
+Validity comes first to the end. While a region is red, the other colours leave room under
+the strip cap for the cuts the red regions still need (cuts_to_discs), and when they are
+done (or out of that room) with a region still red, the red seed points are asked once
+more, in the design their strips made: each strip moves the regions and the field, so a
+point that gave nothing may cut now. Once, at the end: asked after every strip, they cost
+the crease phase its work.
+
 The work budget counts what weaving does, not how long it takes, so the same input gives
 the same design on any machine: a loop query is half a unit plus its own work count
 (WORK_PER_POLL per poll, one per 4096 settled g' nodes; queries run on one thread, where
@@ -332,6 +339,7 @@ class _Weaver:
         self.valid_at = None        # (work, seconds) when the design first had no red region
         self.cuts = None            # cuts the red regions of the first assessment need (red_allowance)
         self.looking_harder = False  # red regions ran out of seed points once (_weave)
+        self.red_again = False      # the red seed points were asked once more at the end (_weave)
         self.user_strips = len(ds.design.strips)
         self.groups = {}            # index of an added strip -> 1 + its symmetric images, added after it
         self.image_tolerance = 0.0
@@ -1112,6 +1120,7 @@ def _weave(w, ds, options, start=None):
     w.count_cuts(a)
     skip = set()          # seed points that gave nothing useful
     stalls = 0            # consecutive red-phase additions that did not lower the score
+    stopped_for_room = False  # the other colours stopped for the red regions' room under the cap
 
     def elapsed():
         return time.perf_counter() - start
@@ -1129,6 +1138,14 @@ def _weave(w, ds, options, start=None):
             result.stopped = "patch target"
             break
         seeds = seeds_in_order(a, options, skip)
+        if not valid and w.red_again:
+            seeds = [x for x in seeds if x[2] == "red"]
+        # While a region is red, the other colours leave room under the cap for the cuts it
+        # still needs: a cap reached by crease strips on an invalid design ends with no layout.
+        no_room = not valid and bool(seeds) and seeds[0][2] != "red" and \
+            len(ds.design.strips) >= w.max_strips() - cuts_to_discs(a)
+        if no_room:
+            seeds = []
         if valid and w.out_of_work(elapsed):
             result.stopped = w.why_out(elapsed)
             break
@@ -1157,10 +1174,24 @@ def _weave(w, ds, options, start=None):
             stalls = 0
             a = w.assess()
             continue
+        if not seeds and not valid and not w.red_again:
+            # The other colours are done (or out of room) and a region is still red: its seed
+            # points once more, in the design those strips made. Each strip changes the
+            # regions and the field, so a seed point that gave nothing may cut now (a
+            # 23-bore plate's last annulus: its second-ranked loop there would have been
+            # valid); once, at the end, because asking them after every strip costs the
+            # crease phase its work.
+            w.red_again = True
+            _say(options, "red regions remain and the other colours are done: their seed points once more")
+            skip.clear()
+            stalls = 0
+            stopped_for_room = no_room
+            continue
         if not seeds:
             colours_left = sum(1 for r in a["regions"] for c in ("crease", "orange", "yellow")
                                if c in options.colours and shows(r, c))
-            result.stopped = "done" if valid and not colours_left else "no seed helps"
+            result.stopped = "done" if valid and not colours_left else \
+                "max strips" if no_room or (w.red_again and stopped_for_room) else "no seed helps"
             break
         reason, region, colour, points = seeds[0]
         _say(options, f"strip {len(ds.design.strips) + 1}: {reason} {region} "
