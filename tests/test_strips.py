@@ -497,14 +497,19 @@ def test_a_loop_its_strip_does_not_cover_still_keeps_later_loops_from_running_al
     distance = np.array([np.linalg.norm(polyline - v[a], axis=1).min() for a in candidates])
     # Off the band (1e-3), within a quarter edge: the loop runs through a triangle at each.
     near = set(candidates[(distance > 1e-3) & (distance < 0.25 * edge)].tolist())
-    along = []
+    along, across = [], []
     for n in range(session.graph_stats()["gprime_nodes"]):
         a, _ = session.node_vertices(n)
         if a not in near:
             continue
         tangent = np.cross([0.0, 1.0, 0.0], [v[a][0] - 10.0, 0.0, v[a][2]])
         d = np.asarray(session.node_tangent(n))
-        if abs(d @ tangent) / (np.linalg.norm(d) * np.linalg.norm(tangent)) > math.cos(math.radians(40)):
+        cos = abs(d @ tangent) / (np.linalg.norm(d) * np.linalg.norm(tangent))
+        if cos > math.cos(math.radians(40)):
             along.append(n)
-    assert len(near) >= 10 and len(along) > 200   # the case exists on this mesh
+        elif cos < math.cos(math.radians(60)):
+            across.append(n)
+    assert len(near) >= 10 and len(along) > 200 and len(across) > 200   # the case exists on this mesh
     assert all(n in mask for n in along)
+    # Later loops may still cross it there: the directions across it stay open.
+    assert not any(n in mask for n in across)

@@ -339,7 +339,8 @@ class _Weaver:
         self.valid_at = None        # (work, seconds) when the design first had no red region
         self.cuts = None            # cuts the red regions of the first assessment need (red_allowance)
         self.looking_harder = False  # red regions ran out of seed points once (_weave)
-        self.red_again = False      # the red seed points were asked once more at the end (_weave)
+        self.red_again = None       # why the other colours stopped, once the red seed points were
+                                    # asked once more at the end (_weave)
         self.user_strips = len(ds.design.strips)
         self.groups = {}            # index of an added strip -> 1 + its symmetric images, added after it
         self.image_tolerance = 0.0
@@ -1120,7 +1121,6 @@ def _weave(w, ds, options, start=None):
     w.count_cuts(a)
     skip = set()          # seed points that gave nothing useful
     stalls = 0            # consecutive red-phase additions that did not lower the score
-    stopped_for_room = False  # the other colours stopped for the red regions' room under the cap
 
     def elapsed():
         return time.perf_counter() - start
@@ -1181,17 +1181,16 @@ def _weave(w, ds, options, start=None):
             # 23-bore plate's last annulus: its second-ranked loop there would have been
             # valid); once, at the end, because asking them after every strip costs the
             # crease phase its work.
-            w.red_again = True
+            w.red_again = "max strips" if no_room else "no seed helps"
             _say(options, "red regions remain and the other colours are done: their seed points once more")
             skip.clear()
             stalls = 0
-            stopped_for_room = no_room
             continue
         if not seeds:
             colours_left = sum(1 for r in a["regions"] for c in ("crease", "orange", "yellow")
                                if c in options.colours and shows(r, c))
-            result.stopped = "done" if valid and not colours_left else \
-                "max strips" if no_room or (w.red_again and stopped_for_room) else "no seed helps"
+            result.stopped = "done" if valid and not colours_left else "max strips" if no_room else \
+                w.red_again or "no seed helps"
             break
         reason, region, colour, points = seeds[0]
         _say(options, f"strip {len(ds.design.strips) + 1}: {reason} {region} "

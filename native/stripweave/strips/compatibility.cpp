@@ -65,6 +65,17 @@ void disable_shallow_crossings(const Surface& surface, const ElasticaGraph& g, c
   }
 }
 
+// The nodes at vertex v that run within the limit of `direction`, either way
+// along it, with their reverses (the mask stays closed under reversal).
+void disable_along(const Surface& surface, const ElasticaGraph& g, Index v, const Vec3& direction, double cos_limit,
+                   std::vector<Index>& nodes) {
+  for (Index n = g.node_offsets[v]; n < g.node_offsets[v + 1]; ++n)
+    if (std::abs(g.tangent(surface, n).dot(direction)) > cos_limit) {
+      nodes.push_back(n);
+      nodes.push_back(g.reverse[n]);
+    }
+}
+
 // The loop's own neighbourhood where the strip does not cover it (a strip
 // stopped at once by a fold-over or a singularity beside its loop, or held
 // within a band narrower than a triangle): at the corners of the triangles
@@ -78,14 +89,8 @@ void disable_shallow_crossings(const Surface& surface, const ElasticaGraph& g, c
 void disable_along_uncovered_loop(const Surface& surface, const ElasticaGraph& g, const LoopPath& loop,
                                   const std::vector<bool>& covered, double cos_limit, std::vector<Index>& nodes) {
   for (const PathSegment& segment : loop.segments)
-    for (Index v : surface.mesh.triangles[segment.triangle]) {
-      if (covered[v]) continue;
-      for (Index n = g.node_offsets[v]; n < g.node_offsets[v + 1]; ++n)
-        if (std::abs(g.tangent(surface, n).dot(segment.direction)) > cos_limit) {
-          nodes.push_back(n);
-          nodes.push_back(g.reverse[n]);
-        }
-    }
+    for (Index v : surface.mesh.triangles[segment.triangle])
+      if (!covered[v]) disable_along(surface, g, v, segment.direction, cos_limit, nodes);
 }
 
 }  // namespace
@@ -111,12 +116,7 @@ std::vector<Index> incompatible_nodes(const Surface& surface, const ElasticaGrap
     if (iso.squaredNorm() == 0) continue;
     if (std::isfinite(band) && across[v] > band) continue;
     covered[v] = true;
-    for (Index n = g.node_offsets[v]; n < g.node_offsets[v + 1]; ++n) {
-      if (std::abs(g.tangent(surface, n).dot(iso)) > cos_limit) {
-        nodes.push_back(n);
-        nodes.push_back(g.reverse[n]);
-      }
-    }
+    disable_along(surface, g, v, iso, cos_limit, nodes);
   }
   disable_along_uncovered_loop(surface, g, loop, covered, cos_limit, nodes);
   std::sort(nodes.begin(), nodes.end());
