@@ -313,6 +313,31 @@ def test_square_sheet_two_curves_each_way(square_session):
         assert g["colour"] == "none"
 
 
+def test_open_sides_count_the_stretches_of_boundary_a_region_touches(sheet):
+    """The layout is aligned to the open boundary, and a region's one vertex closes one
+    stretch of it (regions.h, open_sides). A lone chord: two caps, one stretch each. Two
+    chords that do not cross: the band between them touches the boundary in two stretches,
+    one of which no patch will cover. A third chord cutting a corner off one of four valid
+    corner regions, crossing neither chord: a cap, and the rest with two stretches. Every
+    region stays a disc, valid in the paper's sense."""
+    lone = sheet_regions(sheet, [trace(sheet, clipped_line((5, 3.3), 0.2))])
+    assert [(g["open_sides"], g["valence"]) for g in lone["regions"]] == [(1, 2), (1, 2)] and lone["valid"]
+
+    band = sheet_regions(sheet, [trace(sheet, clipped_line((5, 3.3), 0.1)),
+                                 trace(sheet, clipped_line((5, 6.7), -0.1))])
+    middle = band["regions"][region_at(band, (5, 5, 0))]
+    assert (middle["open_sides"], middle["valence"]) == (2, 4) and middle["disc"] and band["valid"]
+
+    cross = [trace(sheet, clipped_line((5, 5.3), 0.05)), trace(sheet, clipped_line((5.3, 5), 1.6))]
+    four = sheet_regions(sheet, cross)
+    assert [g["open_sides"] for g in four["regions"]] == [1] * 4
+    r = sheet_regions(sheet, cross + [trace(sheet, [(0, 2.1), (2.3, 0)])])
+    cap, rest = r["regions"][region_at(r, (0, 0, 0))], r["regions"][region_at(r, (3, 3, 0))]
+    assert (cap["open_sides"], cap["valence"]) == (1, 2)
+    assert (rest["open_sides"], rest["valence"]) == (2, 5)
+    assert sorted(g["open_sides"] for g in r["regions"]) == [1, 1, 1, 1, 2]
+
+
 def test_square_sheet_without_curves_is_one_disc_of_valence_zero(square_session):
     r = native.regions(square_session.native, [])
     check_topology(r)
@@ -490,6 +515,7 @@ def check_line_cells(r, lines, clear=1e-3):
         straight = sum(1 for at in ends.values() if len(at) == 2 and at[0] & at[1])
         valence = len(mine) - straight + rim_sides[k]
         assert g["disc"] and g["valence"] == valence
+        assert g["open_sides"] == rim_sides[k]
         # Two sides at least. (A convex cell has 3 unless it reaches the boundary, but where
         # a chord passes within the tolerance of a vertex another runs through, both are
         # snapped onto it, and if they cross near there too the sliver between is a digon.)

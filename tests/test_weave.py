@@ -188,8 +188,10 @@ def test_a_region_with_two_boundaries_is_seeded_along_its_shortest_bridge():
     """A region with two boundary cycles becomes a disc only by a cut that joins them; its
     bridge anchor is the middle of the shortest path between them, pointing along it. An open
     tube (h = 20): halfway up, along the axis. A plate with a hole nearer one long side: on
-    the short gap between the hole and that side, across it. A region with one boundary (the
-    tube cut by a meridian, a disc) has none."""
+    the short gap between the hole and that side, across it. The tube cut by one curve from
+    end to end is a disc, valid, but it touches the open boundary in two stretches (its two
+    ends), which one vertex cannot both close (regions.h, open_sides): its anchor points
+    ACROSS the bridge between the ends, around the tube halfway up (the ring that parts them)."""
     tube = sw.from_shape(open_cylinder_shell(5.0, 20.0), target_triangles=6000)
     (region,) = native.weave_assessment(DesignSession(tube, Design()).native, [], 1)["regions"]
     (bridge,) = region["bridge_anchors"]
@@ -207,8 +209,48 @@ def test_a_region_with_two_boundaries_is_seeded_along_its_shortest_bridge():
 
     design = Design()
     design.add_strip([(5, 0, 10, 0, 0, 1)])
-    cut = native.weave_assessment(DesignSession(tube, design).native, [], 1)["regions"]
-    assert [r["disc"] for r in cut] == [True] and cut[0]["bridge_anchors"] == []
+    (cut,) = native.weave_assessment(DesignSession(tube, design).native, [], 1)["regions"]
+    assert cut["disc"] and cut["open_sides"] == 2 and cut["colour"] != "red"
+    x, y, z, dx, dy, dz = cut["bridge_anchors"][0]
+    assert math.hypot(x, y) == pytest.approx(5.0, abs=0.1) and z == pytest.approx(10.0, abs=1.0)
+    assert abs(dz) < 0.2
+
+
+def test_a_tube_cut_from_end_to_end_is_cut_around_and_covered():
+    """An open tube with one curve from end to end: a disc, valid in the paper's sense, that
+    touches the open boundary at both ends. The layout is aligned to the boundary, so its
+    one vertex would close one end and leave the other in no patch. Weaving counts such
+    stretches after validity (open_stretches) and seeds them across the bridge between them:
+    from that strip it adds the curve around the tube that parts the ends, and the layout
+    covers the whole tube."""
+    from stripweave.weave import _layout, open_stretches
+    tube = sw.from_shape(open_cylinder_shell(5.0, 20.0), target_triangles=6000)
+    design = Design()
+    design.add_strip([(5, 0, 10, 0, 0, 1)])
+    ds = DesignSession(tube, design)
+    a = native.weave_assessment(ds.native, [], 1)
+    assert a["valid"] and open_stretches(a) == 1
+    result = auto_weave(ds, WeaveOptions(max_strips=6))
+    layout = _layout(ds)
+    assert open_stretches(result.assessment) == 0 and layout["valid"]
+    assert all(r["open_sides"] <= 1 for r in layout["regions"])
+    assert layout["defects"]["uncovered_triangles"] == 0
+    assert sum(p["area"] for p in layout["patches"]) == pytest.approx(2 * math.pi * 5 * 20, rel=0.01)
+
+
+def test_stretches_of_open_boundary_no_vertex_closes_count_after_validity_and_before_creases():
+    """score(): a disc touching the open boundary in two stretches (one of which no patch
+    will cover) is worse than the same design without it, better than a crease region (whose
+    strips may leave such a band on the way) and better than any red region."""
+    def assessment(open_sides=1, colour="none", crease_excess=0, disc=True):
+        region = {"colour": colour, "disc": disc, "genus": 0, "euler_characteristic": 1 if disc else 0,
+                  "boundaries": 1 if disc else 2, "open_sides": open_sides, "crease_excess": crease_excess,
+                  "excess_extrema": 0, "valence": 4, "ideal_valence": 4.0}
+        return {"regions": [region]}
+    fine, band = assessment(), assessment(open_sides=2)
+    assert score(band) > score(fine)
+    assert score(band) < score(assessment(crease_excess=1))
+    assert score(band) < score(assessment(colour="red", disc=False))
 
 
 def test_a_red_region_is_offered_both_families_of_loops():
@@ -914,11 +956,34 @@ class _ScriptedWeave:
     def quality_work(self, elapsed):
         return 0.0, 0.0
 
+    open_spent = (0.0, 0.0)
+
+    def open_allowance(self):
+        return True
+
     def out_of_work(self, elapsed):
         return False
 
     def out_of_red_work(self, elapsed):
         return False
+
+
+def test_open_stretch_strips_have_a_budget_of_their_own(cube):
+    """The work of strips that part stretches of open boundary (open_spent) is not taken from
+    the crease, colour and refining phases' budget, and has one budget of its own."""
+    from stripweave.weave import _Weaver
+    w = _Weaver(DesignSession(cube, Design()), WeaveOptions(budget=100.0, time_limit_s=1e9))
+    def elapsed():
+        return 0.0
+    w.spend("query", 10.0)
+    w.became_valid(elapsed)
+    w.spend("query", 70.0)
+    w.open_spent = (50.0, 0.0)           # 50 of the 70 went to open stretches
+    assert w.quality_work(elapsed)[0] == pytest.approx(20.0)
+    assert not w.out_of_work(elapsed) and w.open_allowance()
+    w.spend("query", 60.0)
+    w.open_spent = (110.0, 0.0)
+    assert w.quality_work(elapsed)[0] == pytest.approx(20.0) and not w.open_allowance()
 
 
 def test_red_seed_points_are_asked_again_once_the_other_colours_are_done():

@@ -12,6 +12,8 @@
 //     regions      [{"valence", "disc", "colour" (none|red|orange|yellow),
 //                    "total_curvature", "ideal_valence" (4 - 2K/pi),
 //                    "euler_characteristic", "boundaries", "genus", "area",
+//                    "open_sides" (sides along the open boundary: one vertex
+//                    closes one, regions.h),
 //                    "triangles" (refined), "singularities": [{"vertex",
 //                    "index", "position"}]}]
 //     valid        no region is red
@@ -82,6 +84,7 @@ py::dict regions_dict(const Surface& s, const std::vector<Singularity>& singular
     d["ideal_valence"] = ideal_valence(r.total_curvature);
     d["euler_characteristic"] = r.euler_characteristic;
     d["boundaries"] = r.boundaries;
+    d["open_sides"] = r.open_sides;
     d["genus"] = r.genus;
     d["area"] = r.area * scale2;
     d["triangles"] = r.triangles;

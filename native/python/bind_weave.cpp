@@ -11,7 +11,8 @@
 //   skips the seeds and the coverage (scoring a candidate). Keys (model units):
 //     regions   [{"valence", "disc", "colour", "total_curvature",
 //                 "ideal_valence", "area", "euler_characteristic", "genus",
-//                 "boundaries" (its boundary cycles), "singularities" (count),
+//                 "boundaries" (its boundary cycles), "open_sides" (its sides
+//                 along the open boundary, regions.h), "singularities" (count),
 //                 "singularity_quarters" (each one's index in quarters: +1 at a
 //                 cube corner, -1 where five patches meet),
 //                 "seeds": [[x,y,z], ...], "clearance": [...]}]
@@ -128,6 +129,7 @@ void bind_weave(py::module_& m) {
           x["euler_characteristic"] = g.euler_characteristic;
           x["genus"] = g.genus;
           x["boundaries"] = g.boundaries;
+          x["open_sides"] = g.open_sides;
           x["colour"] = colour_name(g.colour);
           x["total_curvature"] = g.total_curvature;
           x["ideal_valence"] = ideal_valence(g.total_curvature);

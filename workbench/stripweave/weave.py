@@ -9,7 +9,9 @@ The paper's tool (§4) is interactive: the user hovers, the system proposes the 
 strip through the cursor (§5), the region colours (§4.2) say where strips are still
 needed. Automatic weaving plays the user: it picks seed points in the order
     red regions (not discs: no valid layout yet), then crease regions (they keep the layout
-    from following the part's creases, issue 17), then orange (several curvature extrema
+    from following the part's creases, issue 17), then discs that touch the open boundary
+    in two or more stretches (one vertex closes one; the rest would lie in no patch:
+    open_stretches), across the bridge between two of them, then orange (several curvature extrema
     of one kind in one region: extra_extrema), then yellow (valence and curvature
     disagree), orange and yellow only where the region's vertex would have valence 2 or
     6 and more (extreme_only), then the largest area no strip covers,
@@ -53,7 +55,8 @@ the deviation or patch target (no candidate that would pass refine_patches is ta
 work budget (past which only red regions are worked on, up to red_reserve budgets in all
 plus one red strip's work per cut the part's handles and holes ask for, cuts_to_discs;
 the budget counts from the first valid design, so the work validity takes leaves the
-crease, colour and refining phases their whole budget), or the strip limit. Refinement
+crease, colour and refining phases their whole budget; the strips that part stretches of
+open boundary have one budget of their own, _Weaver.quality_work), or the strip limit. Refinement
 never takes a strip that leaves a red region, more crease excess, more crease inside
 patches, or more defective patches and vertices, whatever the corners gain.
 
@@ -223,9 +226,10 @@ def colour_flaws(a):
 
 def score(a):
     """How far an assessment is from a good layout, smaller is better (compared as tuples):
-    first validity (red regions, weighted by how far from a disc they are), then the
+    first validity (red regions, weighted by how far from a disc they are), then the crease
+    regions, then the stretches of open boundary no vertex closes (open_stretches), then the
     regions the paper flags for quality (orange: extra singularities, yellow: valence
-    mismatch), then the coarseness (fewer regions)."""
+    mismatch)."""
     red = [r for r in a["regions"] if r["colour"] == "red"]
     # A handle is cut by a non-separating loop (genus - 1, two more boundaries: chi unchanged),
     # then holes are joined by cuts between them (chi + 1): both count as progress.
@@ -235,7 +239,18 @@ def score(a):
     # (crease_excess: nodes, pieces and exits beyond one...), which every loop that
     # separates two crease junctions lowers, where the count of crease regions may not.
     crease = sum(r["crease_excess"] for r in a["regions"])
-    return (genus, badness, crease, colour_flaws(a))
+    return (genus, badness, crease, open_stretches(a), colour_flaws(a))
+
+
+def open_stretches(a):
+    """The stretches of open boundary that no primal vertex will close: per disc, those beyond
+    its first (regions.h, open_sides). The layout is aligned to the boundary, and a region's
+    one vertex closes one stretch; the band beside a curve that crosses nothing, or a tube cut
+    from end to end, leaves the other in no patch (uncovered, layout_defects.h). Such a
+    region is a disc, valid in the paper's sense, so this counts after validity and the
+    crease regions (whose strips, across creases that run to the boundary, may leave such a
+    band on the way), and before the paper's quality colours."""
+    return sum(max(0, r.get("open_sides", 0) - 1) for r in a["regions"] if r["disc"])
 
 
 def cuts_to_discs(a):
@@ -259,8 +274,10 @@ def work_per_red_strip(options):
 
 
 def seeds_in_order(a, options, skip):
-    """(reason, region id, colour, [points]) in the order the issue asks: red, orange, yellow
-    regions (each colour largest first), then the largest uncovered area."""
+    """(reason, region id, colour, [points]) in the order the issue asks: red, crease, orange,
+    yellow regions (each colour largest first), with the discs whose stretches of open
+    boundary no vertex closes after the crease ones (_open_seeds), then the largest uncovered
+    area."""
     out = []
     for colour in (c for c in COLOURS if c == "red" or c in options.colours):
         regions = [(i, r) for i, r in enumerate(a["regions"])
@@ -287,6 +304,8 @@ def seeds_in_order(a, options, skip):
                 points = points[:1] + [c for c in cuts if _key(c) not in skip] + points[1:]
             if points:
                 out.append((f"{colour} region", i, colour, points))
+        if colour == ("crease" if "crease" in options.colours else "red"):
+            out += _open_seeds(a, skip)    # after the crease regions, before the paper's colours
     u = a["uncovered"]
     # No crossing yet means no patch at all (a disc cut by nothing is "valid"): keep weaving.
     wanted = u["largest_area"] > options.uncovered * u["surface_area"] or a["crossings"] == 0
@@ -298,6 +317,19 @@ def seeds_in_order(a, options, skip):
             points = [p for p in r["seeds"] if _key(p) not in skip]
             if points:
                 out.append(("no patch yet", i, "uncovered", points))
+    return out
+
+
+def _open_seeds(a, skip):
+    """Seeds of the discs with stretches of open boundary no vertex closes (open_stretches),
+    most stretches first, then largest: across the middle of the shortest bridge between two
+    stretches (weave_seeds.h's bridge_anchors: the curve there parts them), then the centre."""
+    out = []
+    regions = [(i, r) for i, r in enumerate(a["regions"]) if r["disc"] and r.get("open_sides", 0) >= 2]
+    for i, r in sorted(regions, key=lambda x: (-x[1]["open_sides"], -x[1]["area"], x[0])):
+        points = [p for p in r.get("bridge_anchors", []) + r["seeds"][:1] if _key(p) not in skip]
+        if points:
+            out.append(("open stretches of region", i, "open", points))
     return out
 
 
@@ -337,6 +369,7 @@ class _Weaver:
         self.capped = 0             # loop queries stopped by query_polls
         self.capped_all_directions = False   # an all-directions query ran past query_polls (proposals)
         self.valid_at = None        # (work, seconds) when the design first had no red region
+        self.open_spent = (0.0, 0.0)  # (work, seconds) of valid designs' open-stretch strips (quality_work)
         self.cuts = None            # cuts the red regions of the first assessment need (red_allowance)
         self.looking_harder = False  # red regions ran out of seed points once (_weave)
         self.red_again = None       # why the other colours stopped, once the red seed points were
@@ -361,9 +394,19 @@ class _Weaver:
             self.valid_at = (self.work, elapsed())
 
     def quality_work(self, elapsed):
-        """(work units, seconds) spent since the design became valid (all of it before)."""
+        """(work units, seconds) spent since the design became valid (all of it before), but for
+        the strips that part stretches of open boundary (open_stretches): what they leave is
+        surface in no patch, which validity is for too, so like the red phase they do not
+        take the crease, colour and refining phases' budget; they have one of their own
+        (open_allowance). A range scan's ragged border left 17 such stretches after its red
+        phase, and parting four of them took the rest of the budget: 14 patches, against 35."""
         work, seconds = self.valid_at or (0.0, 0.0)
-        return self.work - work, elapsed() - seconds
+        return self.work - work - self.open_spent[0], elapsed() - seconds - self.open_spent[1]
+
+    def open_allowance(self):
+        """Whether a valid design's open-stretch strips may go on: one budget (and time limit)
+        of their own (quality_work)."""
+        return self.open_spent[0] < self.options.budget and self.open_spent[1] < self.options.time_limit_s
 
     def out_of_work(self, elapsed):
         """Whether the budget (deterministic) or the safety net (wall clock) is used up. Both
@@ -782,11 +825,12 @@ def _less_clean(after_layout, after, before_layout, before):
 
 
 def _less_conforming(after, before):
-    """Whether a refining strip leaves the layout further from valid and crease-conforming:
-    score()'s first three figures (red genus, red badness, crease excess) worse. Corners
+    """Whether a refining strip leaves the layout further from valid, covered and
+    crease-conforming: score()'s first four figures (red genus, red badness, crease excess,
+    open stretches) worse. Corners
     never pay for a crease region: the crease it leaves off the primal edges is a seam no
     smooth patch fits (a loop along the handle's top rim made its two crease regions)."""
-    return score(after)[:3] > score(before)[:3]
+    return score(after)[:4] > score(before)[:4]
 
 
 def _refine_under_the_band(w, ds, options, a):
@@ -1138,6 +1182,8 @@ def _weave(w, ds, options, start=None):
             result.stopped = "patch target"
             break
         seeds = seeds_in_order(a, options, skip)
+        if valid and not w.open_allowance():
+            seeds = [x for x in seeds if x[2] != "open"]
         if not valid and w.red_again:
             seeds = [x for x in seeds if x[2] == "red"]
         # While a region is red, the other colours leave room under the cap for the cuts it
@@ -1194,15 +1240,18 @@ def _weave(w, ds, options, start=None):
             break
         reason, region, colour, points = seeds[0]
         _say(options, f"strip {len(ds.design.strips) + 1}: {reason} {region} "
-                      f"(red {a['colours']['red']}, crease {a['colours']['crease']}, orange {a['colours']['orange']}, "
-                      f"yellow {a['colours']['yellow']}, work {w.work:.0f}, {elapsed():.1f} s)")
+                      f"(red {a['colours']['red']}, crease {a['colours']['crease']}, open {open_stretches(a)}, "
+                      f"orange {a['colours']['orange']}, yellow {a['colours']['yellow']}, work {w.work:.0f}, "
+                      f"{elapsed():.1f} s)")
         added = None
         tried_real = False
         splitting = []        # uncovered area: proposals that would leave a red region
-        # Ranked alternatives (slow: a second search per rank) only where validity is at stake.
-        for alternatives in ((1, options.alternatives) if colour == "red" else (1,)):
+        spent_before = (w.work, elapsed())   # what this seed costs (open_spent)
+        # Ranked alternatives (slow: a second search per rank) and both families of loops only
+        # where validity or coverage is at stake (a region's second stretch lies in no patch).
+        for alternatives in ((1, options.alternatives) if colour in ("red", "open") else (1,)):
             tried = points if alternatives == 1 else points[:1]
-            found = w.candidates(tried, alternatives, current, colour == "red")
+            found = w.candidates(tried, alternatives, current, colour in ("red", "open"))
             if colour == "uncovered":
                 splitting = [c for c in found if c[0][:2] > current[:2]]
             for s, cost, loop, point, predicted in found:
@@ -1250,6 +1299,8 @@ def _weave(w, ds, options, start=None):
                 for entry in entries:
                     _record(ds, result, entry)
                 continue
+        if colour == "open" and valid:
+            w.open_spent = (w.open_spent[0] + w.work - spent_before[0], w.open_spent[1] + elapsed() - spent_before[1])
         if added:
             _record(ds, result, added)
             continue

@@ -81,7 +81,7 @@ Regions compute_regions(const Surface& s, const LoopArrangement& A, const std::v
     for (int i0 = 0; i0 < 3; ++i0) {
       if (visited[3 * t0 + i0] || !A.separates(rt.triangle_edges[t0][i0])) continue;
       Index t = t0;
-      int i = i0, corners = 0;
+      int i = i0, corners = 0, open_sides = 0;
       do {
         visited[3 * t + i] = 1;
         const Index in = rt.triangle_edges[t][i];
@@ -99,10 +99,12 @@ Regions compute_regions(const Surface& s, const LoopArrangement& A, const std::v
         const bool loop_in = A.on_loop(in), loop_out = A.on_loop(out_edge);
         if (in != out_edge && (loop_in || loop_out) && !(loop_in && loop_out && continues(A, in, out_edge, b)))
           ++corners;
+        if (in != out_edge && loop_in && !loop_out) ++open_sides;  // a stretch of open boundary starts
         t = u, i = j;
       } while (t != t0 || i != i0);
       ++R[region[t0]].boundaries;
       R[region[t0]].valence += corners;
+      R[region[t0]].open_sides += open_sides;
     }
   }
 

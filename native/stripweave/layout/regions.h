@@ -26,6 +26,18 @@
 //                sides either: they are not layout edges, and their
 //                curvature is in K through the angle defects at their
 //                vertices (a cube corner is pi/2 of K).
+//     open_sides the sides along the open boundary (counted on cycles with
+//                corners: a stretch of boundary between two curve ends).
+//                The primal layout is aligned to the boundary (§5.7, §7):
+//                a region that touches it gets its vertex there, and the
+//                primal edges across the arcs ending beside it run along
+//                the boundary to the next boundary vertices. One vertex
+//                closes the patches along ONE stretch only: a region with
+//                two or more (the band beside a dual curve that crosses
+//                nothing, a tube cut from end to end) leaves the others in
+//                no patch (layout_defects.h: uncovered). It is still a
+//                disc, valid in the paper's sense; weaving parts its
+//                stretches (weave_seeds.h: bridge_anchors, weave.py).
 //     total_curvature  K = the Gaussian curvature inside plus the geodesic
 //                curvature of the region's open-boundary sides (including
 //                the turn at boundary corners), so that for a disc whose
@@ -67,6 +79,7 @@ struct Region {
   int genus = 0;
   bool disc = false;
   int valence = 0;
+  int open_sides = 0;  // sides along the open boundary (above)
   double total_curvature = 0;
   std::vector<Index> singularities;  // indices into the input singularities
   int excess_extrema = 0;            // curvature extrema of one kind beyond the first (assessment.h)

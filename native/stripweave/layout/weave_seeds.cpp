@@ -103,6 +103,14 @@ CrossingAnchor middle_of(const TriangleMesh& mesh, const Bridge& b) {
   return {a + t * (c - a), along.normalized()};
 }
 
+// The area-weighted normal of the triangles around vertex v (zero if none).
+Vec3 vertex_normal(const TriangleMesh& mesh, const MeshTopology& topo, Index v) {
+  Vec3 n = Vec3::Zero();
+  for (const Index* t = topo.vertex_triangles.begin(v); t != topo.vertex_triangles.end(v); ++t)
+    n += triangle_normal_area2(mesh, *t);
+  return n.norm() > 0 ? n.normalized() : n;
+}
+
 }  // namespace
 
 std::vector<std::vector<SeedPoint>> region_seed_points(const LoopArrangement& A, const Regions& G, int count) {
@@ -152,25 +160,51 @@ std::vector<std::vector<CrossingAnchor>> crossing_anchors(const LoopArrangement&
 
 std::vector<std::vector<CrossingAnchor>> bridge_anchors(const LoopArrangement& A, const Regions& G, int count) {
   const MeshTopology& topo = A.topology;
+  // A red region with two or more boundary cycles: a bridge is the cut that
+  // makes it a disc, its pieces are its boundary cycles (all its border). A
+  // disc with two or more stretches of open boundary (regions.h): its pieces
+  // are those stretches, and the curve across a bridge parts two of them.
+  enum class Pieces { None, Border, OpenSides };
+  std::vector<Pieces> mode(G.regions.size(), Pieces::None);
+  for (size_t r = 0; r < G.regions.size(); ++r) {
+    const Region& g = G.regions[r];
+    if (g.colour == RegionColour::Red && g.boundaries >= 2) mode[r] = Pieces::Border;
+    else if (g.disc && g.open_sides >= 2) mode[r] = Pieces::OpenSides;
+  }
   std::vector<RegionEdges> edges(G.regions.size());
   for (Index e = 0; e < topo.num_edges(); ++e) {
     Index seen = kInvalid;
     for (Index t : topo.edge_triangles[e]) {
       const Index r = t == kInvalid ? kInvalid : G.triangle_region[t];
-      // Red regions only: a bridge is a cut that makes a region a disc, and only a red
-      // region's seeds (weave.py) ask for one.
-      if (r == kInvalid || r == seen || G.regions[r].boundaries < 2 || G.regions[r].colour != RegionColour::Red)
-        continue;
+      if (r == kInvalid || r == seen || mode[r] == Pieces::None) continue;
       seen = r;
-      (A.separates(e) ? edges[r].pieces : edges[r].inner).push_back(e);
+      if (!A.separates(e)) {
+        edges[r].inner.push_back(e);
+      } else if (mode[r] == Pieces::Border) {
+        edges[r].pieces.push_back(e);
+      } else if (!A.on_loop(e) && A.degree[topo.edges[e][0]] <= 2 && A.degree[topo.edges[e][1]] <= 2) {
+        // A stretch's own edges, short of its ends: where a loop only touches the
+        // boundary, the two stretches it parts share that vertex and would be one piece.
+        edges[r].pieces.push_back(e);
+      }
     }
   }
   std::vector<std::vector<CrossingAnchor>> out(G.regions.size());
   for (size_t r = 0; r < edges.size(); ++r) {
     if (edges[r].pieces.empty()) continue;
-    for (const Bridge& b : shortest_bridges(A, edges[r]))
-      if (b.path.size() >= 2 && b.length > 0 && static_cast<int>(out[r].size()) < count)
-        out[r].push_back(middle_of(A.mesh, b));
+    for (const Bridge& b : shortest_bridges(A, edges[r])) {
+      if (b.path.size() < 2 || b.length <= 0 || static_cast<int>(out[r].size()) >= count) continue;
+      CrossingAnchor anchor = middle_of(A.mesh, b);
+      if (mode[r] == Pieces::OpenSides) {
+        // Two stretches are parted by the curve ACROSS the bridge between them
+        // (the one along it would join them, as a cut joins an annulus's
+        // boundaries, and leave a band on each side with both stretches).
+        const Vec3 across = vertex_normal(A.mesh, topo, b.path[b.path.size() / 2]).cross(anchor.direction);
+        if (across.norm() == 0) continue;
+        anchor.direction = across.normalized();
+      }
+      out[r].push_back(anchor);
+    }
   }
   return out;
 }

@@ -29,7 +29,11 @@
 //   the `count` shortest (the cheapest cuts: a range scan's region with thirty
 //   holes has some ninety such pairs, and each anchor costs the weave a loop
 //   query; the others come up once these cuts have changed the region); none
-//   for a region with one piece or a region that is not red (assessment.h). A region with b >= 2 boundary
+//   for a region with one piece or a region that is not red (assessment.h),
+//   except a disc with two or more stretches of open boundary (regions.h),
+//   whose pieces are those stretches and whose anchor points ACROSS the bridge:
+//   the curve there crosses the region from side to side and parts the two
+//   stretches (one along the bridge would leave both on each side of it). A region with b >= 2 boundary
 //   cycles (an annulus between two loops around a boss, a plate's face around
 //   a bore) becomes a disc only by cuts that join its boundaries, b - 1 of
 //   them: no loop that stays inside it, however good, does. The shortest
