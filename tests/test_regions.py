@@ -338,6 +338,21 @@ def test_open_sides_count_the_stretches_of_boundary_a_region_touches(sheet):
     assert sorted(g["open_sides"] for g in r["regions"]) == [1, 1, 1, 1, 2]
 
 
+def test_stretches_a_loop_only_touches_apart_are_bridged_as_two(sheet):
+    """A loop that touches the boundary at one vertex (a diamond with a corner on the bottom
+    edge) and a chord above it that crosses nothing: the region between them wraps over the
+    diamond and touches the bottom edge in two stretches that share the touching vertex. They
+    are two pieces for the weave's bridge (weave_seeds.h), so the region gets its cut: across
+    the bridge over the diamond's top, upright. As one piece (joined at that vertex, as on
+    lionstatue's open base) it got no anchor at all."""
+    diamond = trace(sheet, [(5, 0), (7, 2), (5, 4), (3, 2)], closed=True)
+    r = sheet_regions(sheet, [diamond, trace(sheet, clipped_line((5, 6.3), 0.05))])
+    k = region_at(r, (1, 1, 0))
+    assert r["regions"][k]["open_sides"] == 2 and r["regions"][k]["disc"]
+    (x, y, z, dx, dy, dz), *_ = r["bridge_anchors"][k]
+    assert 4 <= y <= 6.6 and abs(x - 5) < 1.5 and abs(dy) > 0.9
+
+
 def test_square_sheet_without_curves_is_one_disc_of_valence_zero(square_session):
     r = native.regions(square_session.native, [])
     check_topology(r)

@@ -33,11 +33,13 @@
 //   With details=True also: vertices (V,3), triangles (T,3), parent_triangle,
 //   triangle_region, edges (E,2), edge_loop (E,) (a loop on the edge, or -1),
 //   crossing_vertices, arc_list [{"loop", "vertices", "closed", "left",
-//   "right"}].
+//   "right"}], bridge_anchors (per region, [[x,y,z,dx,dy,dz], ...]:
+//   layout/weave_seeds.h, up to 3).
 #include "bind_regions.h"
 
 #include "stripweave/core/error.h"
 #include "stripweave/layout/regions.h"
+#include "stripweave/layout/weave_seeds.h"
 #include "stripweave/strips/path_segments.h"
 
 #include <pybind11/numpy.h>
@@ -166,6 +168,18 @@ py::dict regions_dict(const Surface& s, const std::vector<Singularity>& singular
   out["edge_loop"] = edge_loop;
   out["crossing_vertices"] = crossing_vertices;
   out["arc_list"] = arcs;
+  // The weave's cut anchors of each region (layout/weave_seeds.h), up to 3.
+  const std::vector<std::vector<CrossingAnchor>> bridges = bridge_anchors(A, G, 3);
+  py::list bridge_list;
+  for (const auto& anchors : bridges) {
+    py::list per_region;
+    for (const CrossingAnchor& b : anchors) {
+      const Vec3 p = s.similarity.to_model(b.point);
+      per_region.append(std::vector<double>{p.x(), p.y(), p.z(), b.direction.x(), b.direction.y(), b.direction.z()});
+    }
+    bridge_list.append(per_region);
+  }
+  out["bridge_anchors"] = bridge_list;
   return out;
 }
 
