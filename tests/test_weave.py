@@ -238,7 +238,7 @@ def test_a_tube_cut_from_end_to_end_is_cut_around_and_covered():
     assert sum(p["area"] for p in layout["patches"]) == pytest.approx(2 * math.pi * 5 * 20, rel=0.01)
 
 
-def test_stretches_of_open_boundary_no_vertex_closes_count_after_validity_and_before_creases():
+def test_stretches_of_open_boundary_no_vertex_closes_count_after_validity_and_creases():
     """score(): a disc touching the open boundary in two stretches (one of which no patch
     will cover) is worse than the same design without it, better than a crease region (whose
     strips may leave such a band on the way) and better than any red region."""

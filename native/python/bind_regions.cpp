@@ -33,8 +33,8 @@
 //   With details=True also: vertices (V,3), triangles (T,3), parent_triangle,
 //   triangle_region, edges (E,2), edge_loop (E,) (a loop on the edge, or -1),
 //   crossing_vertices, arc_list [{"loop", "vertices", "closed", "left",
-//   "right"}], bridge_anchors (per region, [[x,y,z,dx,dy,dz], ...]:
-//   layout/weave_seeds.h, up to 3).
+//   "right"}]; regions_of_paths also bridge_anchors (per region,
+//   [[x,y,z,dx,dy,dz], ...]: layout/weave_seeds.h, up to 3).
 #include "bind_regions.h"
 
 #include "stripweave/core/error.h"
@@ -53,6 +53,22 @@ using namespace stripweave;
 namespace stripweave_python {
 
 namespace {
+
+// Per region, the weave's cut anchors (layout/weave_seeds.h, up to 3) in model
+// units: for regions_of_paths' details only (tests and tools), so that the
+// layout's details, which the main job's preview asks for, do not pay for them.
+py::list bridge_anchor_list(const Surface& s, const Computed& c) {
+  py::list out;
+  for (const auto& anchors : bridge_anchors(c.arrangement, c.regions, 3)) {
+    py::list per_region;
+    for (const CrossingAnchor& b : anchors) {
+      const Vec3 p = s.similarity.to_model(b.point);
+      per_region.append(std::vector<double>{p.x(), p.y(), p.z(), b.direction.x(), b.direction.y(), b.direction.z()});
+    }
+    out.append(per_region);
+  }
+  return out;
+}
 
 py::list position(const Surface& s, const Vec3& p) {
   const Vec3 q = s.similarity.to_model(p);
@@ -168,18 +184,6 @@ py::dict regions_dict(const Surface& s, const std::vector<Singularity>& singular
   out["edge_loop"] = edge_loop;
   out["crossing_vertices"] = crossing_vertices;
   out["arc_list"] = arcs;
-  // The weave's cut anchors of each region (layout/weave_seeds.h), up to 3.
-  const std::vector<std::vector<CrossingAnchor>> bridges = bridge_anchors(A, G, 3);
-  py::list bridge_list;
-  for (const auto& anchors : bridges) {
-    py::list per_region;
-    for (const CrossingAnchor& b : anchors) {
-      const Vec3 p = s.similarity.to_model(b.point);
-      per_region.append(std::vector<double>{p.x(), p.y(), p.z(), b.direction.x(), b.direction.y(), b.direction.z()});
-    }
-    bridge_list.append(per_region);
-  }
-  out["bridge_anchors"] = bridge_list;
   return out;
 }
 
@@ -276,7 +280,9 @@ void bind_regions(py::module_& m) {
           stripweave_python::NativeCall release;
           c = compute(s, loops, singular);
         }
-        return regions_dict(s, singular, c, details);
+        py::dict out = regions_dict(s, singular, c, details);
+        if (details) out["bridge_anchors"] = bridge_anchor_list(s, c);
+        return out;
       },
       py::arg("surface"), py::arg("paths"), py::arg("singular_vertices") = std::vector<Index>(),
       py::arg("quarter_indices") = std::vector<int>(), py::arg("details") = false,
