@@ -253,6 +253,37 @@ def test_stretches_of_open_boundary_no_vertex_closes_count_after_validity_and_cr
     assert score(band) < score(assessment(colour="red", disc=False))
 
 
+def test_every_part_of_an_assembly_gets_patches():
+    """An assembly of a cylinder, a box and a cone: the red phase cuts each solid once, and the
+    cylinder's cut leaves two caps whose boundary holds no crossing, each holding its rim as a
+    closed crease. Once the box had patches the design had crossings, so "no patch yet" no
+    longer held, and the caps' crease seeds were refused for the crease excess they raise:
+    the whole cylinder lay in no patch. Patchless discs count right after validity, and every
+    solid is covered by clean patches."""
+    shape = Part.makeCompound([Part.makeCylinder(4, 12), Part.makeBox(8, 8, 8, Vector(20, 0, 0)),
+                               Part.makeCone(5, 2, 10, Vector(45, 0, 0))])
+    report = sw.weave(sw.from_shape(shape, target_triangles=9000))
+    assert report["valid"] and len(report["components"]) == 3
+    assert all(c["patches"] > 0 and c["clean"] for c in report["components"])
+    assert report["defects"]["uncovered_triangles"] == 0
+
+
+def test_patchless_discs_count_after_validity_before_creases():
+    """score(): a closed disc with no crossing on its boundary is worse than a crease region and
+    better than a red region; a disc on the open boundary (a sheet's first curve) is not one."""
+    from stripweave.weave import patchless
+
+    def assessment(valence=4, colour="none", crease_excess=0, disc=True, open_sides=0):
+        region = {"colour": colour, "disc": disc, "genus": 0, "euler_characteristic": 1 if disc else 0,
+                  "boundaries": 1 if disc else 2, "open_sides": open_sides, "crease_excess": crease_excess,
+                  "excess_extrema": 0, "valence": valence, "ideal_valence": 4.0}
+        return {"regions": [region]}
+    cap = assessment(valence=0)
+    assert patchless(cap) == 1 and patchless(assessment(valence=0, open_sides=1)) == 0
+    assert score(cap) > score(assessment(crease_excess=3))
+    assert score(cap) < score(assessment(colour="red", disc=False))
+
+
 def test_a_red_region_is_offered_both_families_of_loops():
     """A 6 mm plate with two bored bosses: genus 2, one red region without border, whose seed
     point lies on the plate's rim (farthest-point sampling from a vertex). The cheapest loop
@@ -956,9 +987,9 @@ class _ScriptedWeave:
     def quality_work(self, elapsed):
         return 0.0, 0.0
 
-    open_spent = (0.0, 0.0)
+    coverage_spent = (0.0, 0.0)
 
-    def open_allowance(self):
+    def coverage_allowance(self):
         return True
 
     def out_of_work(self, elapsed):
@@ -969,7 +1000,7 @@ class _ScriptedWeave:
 
 
 def test_open_stretch_strips_have_a_budget_of_their_own(cube):
-    """The work of strips that part stretches of open boundary (open_spent) is not taken from
+    """The work of strips that part stretches of open boundary (coverage_spent) is not taken from
     the crease, colour and refining phases' budget, and has one budget of its own."""
     from stripweave.weave import _Weaver
     w = _Weaver(DesignSession(cube, Design()), WeaveOptions(budget=100.0, time_limit_s=1e9))
@@ -978,12 +1009,12 @@ def test_open_stretch_strips_have_a_budget_of_their_own(cube):
     w.spend("query", 10.0)
     w.became_valid(elapsed)
     w.spend("query", 70.0)
-    w.open_spent = (50.0, 0.0)           # 50 of the 70 went to open stretches
+    w.coverage_spent = (50.0, 0.0)           # 50 of the 70 went to open stretches
     assert w.quality_work(elapsed)[0] == pytest.approx(20.0)
-    assert not w.out_of_work(elapsed) and w.open_allowance()
+    assert not w.out_of_work(elapsed) and w.coverage_allowance()
     w.spend("query", 60.0)
-    w.open_spent = (110.0, 0.0)
-    assert w.quality_work(elapsed)[0] == pytest.approx(20.0) and not w.open_allowance()
+    w.coverage_spent = (110.0, 0.0)
+    assert w.quality_work(elapsed)[0] == pytest.approx(20.0) and not w.coverage_allowance()
 
 
 def test_red_seed_points_are_asked_again_once_the_other_colours_are_done():

@@ -8,7 +8,9 @@
 The paper's tool (§4) is interactive: the user hovers, the system proposes the best
 strip through the cursor (§5), the region colours (§4.2) say where strips are still
 needed. Automatic weaving plays the user: it picks seed points in the order
-    red regions (not discs: no valid layout yet), then crease regions (they keep the layout
+    red regions (not discs: no valid layout yet), then closed discs no loop crossing bounds
+    (valence 0: none of their surface lies in a patch, patchless; a cylinder of an assembly
+    cut once while the other parts have patches), then crease regions (they keep the layout
     from following the part's creases, issue 17), then discs that touch the open boundary
     in two or more stretches (one vertex closes one; the rest would lie in no patch:
     open_stretches), across the bridge between two of them, then orange (several curvature extrema
@@ -56,7 +58,7 @@ work budget (past which only red regions are worked on, up to red_reserve budget
 plus one red strip's work per cut the part's handles and holes ask for, cuts_to_discs;
 the budget counts from the first valid design, so the work validity takes leaves the
 crease, colour and refining phases their whole budget; the strips that part stretches of
-open boundary have one budget of their own, _Weaver.quality_work), or the strip limit. Refinement
+open boundary or cross patchless discs have one budget of their own, _Weaver.quality_work), or the strip limit. Refinement
 never takes a strip that leaves a red region, more crease excess, more crease inside
 patches, or more defective patches and vertices, whatever the corners gain.
 
@@ -99,6 +101,9 @@ from typing import Optional
 from ._native import native
 
 COLOURS = ("red", "crease", "orange", "yellow")
+# Seeds whose strips cover surface no patch would (patchless, open_stretches): validity-like,
+# so they get ranked alternatives and both families of loops, and a budget of their own.
+COVERAGE = ("patchless", "open")
 # STRIPWEAVE_WEAVE_DEBUG=path: save each design before it is derived (to replay a crash).
 _DEBUG_DESIGN = os.environ.get("STRIPWEAVE_WEAVE_DEBUG")
 
@@ -227,8 +232,8 @@ def colour_flaws(a):
 def score(a):
     """How far an assessment is from a good layout, smaller is better (compared as tuples):
     first validity (red regions, weighted by how far from a disc they are), then the crease
-    regions, then the stretches of open boundary no vertex closes (open_stretches), then the
-    regions the paper flags for quality (orange: extra singularities, yellow: valence
+    regions (patchless discs come before them, next to validity), then the stretches of open
+    boundary no vertex closes (open_stretches), then the regions the paper flags for quality (orange: extra singularities, yellow: valence
     mismatch)."""
     red = [r for r in a["regions"] if r["colour"] == "red"]
     # A handle is cut by a non-separating loop (genus - 1, two more boundaries: chi unchanged),
@@ -239,7 +244,20 @@ def score(a):
     # (crease_excess: nodes, pieces and exits beyond one...), which every loop that
     # separates two crease junctions lowers, where the count of crease regions may not.
     crease = sum(r["crease_excess"] for r in a["regions"])
-    return (genus, badness, crease, open_stretches(a), colour_flaws(a))
+    return (genus, badness, patchless(a), crease, open_stretches(a), colour_flaws(a))
+
+
+def patchless(a):
+    """The closed discs whose boundary holds no loop crossing (valence 0): a cap cut off by one
+    loop that crosses nothing. Their vertex has no primal edge, so none of their surface lies
+    in a patch (uncovered, layout_defects.h), and any loop across one crosses its boundary
+    twice and gives it patches. While the whole design has no crossing the weave treats that
+    as "no patch yet"; on a part of several components (an assembly) the others' crossings
+    hid it, and a cylinder's two caps, each holding its rim as a closed crease, were left in
+    no patch while its crease seeds were refused for raising the crease excess. So they count
+    right after validity, before the creases. Discs that touch the open boundary are left to
+    open_stretches: a sheet's first curve crosses nothing either."""
+    return sum(1 for r in a["regions"] if r["disc"] and r["valence"] == 0 and r.get("open_sides", 0) == 0)
 
 
 def open_stretches(a):
@@ -275,7 +293,8 @@ def work_per_red_strip(options):
 
 def seeds_in_order(a, options, skip):
     """(reason, region id, colour, [points]) in the order the issue asks: red, crease, orange,
-    yellow regions (each colour largest first), with the discs whose stretches of open
+    yellow regions (each colour largest first), with the patchless discs after the red ones
+    (_patchless_seeds), the discs whose stretches of open
     boundary no vertex closes after the crease ones (_open_seeds), then the largest uncovered
     area."""
     out = []
@@ -304,6 +323,8 @@ def seeds_in_order(a, options, skip):
                 points = points[:1] + [c for c in cuts if _key(c) not in skip] + points[1:]
             if points:
                 out.append((f"{colour} region", i, colour, points))
+        if colour == "red":
+            out += _patchless_seeds(a, skip)
         if colour == ("crease" if "crease" in options.colours else "red"):
             out += _open_seeds(a, skip)    # after the crease regions, before the paper's colours
     u = a["uncovered"]
@@ -330,6 +351,21 @@ def _open_seeds(a, skip):
         points = [p for p in r.get("bridge_anchors", []) + r["seeds"][:1] if _key(p) not in skip]
         if points:
             out.append(("open stretches of region", i, "open", points))
+    return out
+
+
+def _patchless_seeds(a, skip):
+    """Seeds of the patchless discs (patchless), largest first: the point whose loop would cross
+    a crease the disc holds (a cylinder's cap holds its rim: a loop across it is the one a
+    crease-conforming layout wants there too), then the disc's seed points."""
+    out = []
+    regions = [(i, r) for i, r in enumerate(a["regions"])
+               if r["disc"] and r["valence"] == 0 and r.get("open_sides", 0) == 0]
+    for i, r in sorted(regions, key=lambda x: (-x[1]["area"], x[0])):
+        points = ([_crease_seed(r)] if "crease_seed" in r else []) + list(r["seeds"])
+        points = [p for p in points if _key(p) not in skip]
+        if points:
+            out.append(("patchless region", i, "patchless", points))
     return out
 
 
@@ -369,7 +405,7 @@ class _Weaver:
         self.capped = 0             # loop queries stopped by query_polls
         self.capped_all_directions = False   # an all-directions query ran past query_polls (proposals)
         self.valid_at = None        # (work, seconds) when the design first had no red region
-        self.open_spent = (0.0, 0.0)  # (work, seconds) of valid designs' open-stretch strips (quality_work)
+        self.coverage_spent = (0.0, 0.0)  # (work, seconds) of valid designs' COVERAGE strips (quality_work)
         self.cuts = None            # cuts the red regions of the first assessment need (red_allowance)
         self.looking_harder = False  # red regions ran out of seed points once (_weave)
         self.red_again = None       # why the other colours stopped, once the red seed points were
@@ -395,18 +431,18 @@ class _Weaver:
 
     def quality_work(self, elapsed):
         """(work units, seconds) spent since the design became valid (all of it before), but for
-        the strips that part stretches of open boundary (open_stretches): what they leave is
-        surface in no patch, which validity is for too, so like the red phase they do not
-        take the crease, colour and refining phases' budget; they have one of their own
-        (open_allowance). A range scan's ragged border left 17 such stretches after its red
+        the strips that cover surface no patch would (COVERAGE: patchless discs, stretches of
+        open boundary, open_stretches): what they leave is surface in no patch, which validity
+        is for too, so like the red phase they do not take the crease, colour and refining
+        phases' budget; they have one of their own (coverage_allowance). A range scan's ragged border left 17 such stretches after its red
         phase, and parting four of them took the rest of the budget: 14 patches, against 35."""
         work, seconds = self.valid_at or (0.0, 0.0)
-        return self.work - work - self.open_spent[0], elapsed() - seconds - self.open_spent[1]
+        return self.work - work - self.coverage_spent[0], elapsed() - seconds - self.coverage_spent[1]
 
-    def open_allowance(self):
-        """Whether a valid design's open-stretch strips may go on: one budget (and time limit)
-        of their own (quality_work)."""
-        return self.open_spent[0] < self.options.budget and self.open_spent[1] < self.options.time_limit_s
+    def coverage_allowance(self):
+        """Whether a valid design's COVERAGE strips may go on: one budget (and time limit) of
+        their own (quality_work)."""
+        return self.coverage_spent[0] < self.options.budget and self.coverage_spent[1] < self.options.time_limit_s
 
     def out_of_work(self, elapsed):
         """Whether the budget (deterministic) or the safety net (wall clock) is used up. Both
@@ -826,11 +862,11 @@ def _less_clean(after_layout, after, before_layout, before):
 
 def _less_conforming(after, before):
     """Whether a refining strip leaves the layout further from valid, covered and
-    crease-conforming: score()'s first four figures (red genus, red badness, crease excess,
-    open stretches) worse. Corners
+    crease-conforming: score()'s first five figures (red genus, red badness, patchless discs,
+    crease excess, open stretches) worse. Corners
     never pay for a crease region: the crease it leaves off the primal edges is a seam no
     smooth patch fits (a loop along the handle's top rim made its two crease regions)."""
-    return score(after)[:4] > score(before)[:4]
+    return score(after)[:5] > score(before)[:5]
 
 
 def _refine_under_the_band(w, ds, options, a):
@@ -1182,8 +1218,8 @@ def _weave(w, ds, options, start=None):
             result.stopped = "patch target"
             break
         seeds = seeds_in_order(a, options, skip)
-        if valid and not w.open_allowance():
-            seeds = [x for x in seeds if x[2] != "open"]
+        if valid and not w.coverage_allowance():
+            seeds = [x for x in seeds if x[2] not in COVERAGE]
         if not valid and w.red_again:
             seeds = [x for x in seeds if x[2] == "red"]
         # While a region is red, the other colours leave room under the cap for the cuts it
@@ -1240,18 +1276,18 @@ def _weave(w, ds, options, start=None):
             break
         reason, region, colour, points = seeds[0]
         _say(options, f"strip {len(ds.design.strips) + 1}: {reason} {region} "
-                      f"(red {a['colours']['red']}, crease {a['colours']['crease']}, open {open_stretches(a)}, "
+                      f"(red {a['colours']['red']}, patchless {patchless(a)}, crease {a['colours']['crease']}, open {open_stretches(a)}, "
                       f"orange {a['colours']['orange']}, yellow {a['colours']['yellow']}, work {w.work:.0f}, "
                       f"{elapsed():.1f} s)")
         added = None
         tried_real = False
         splitting = []        # uncovered area: proposals that would leave a red region
-        spent_before = (w.work, elapsed())   # what this seed costs (open_spent)
+        spent_before = (w.work, elapsed())   # what this seed costs (coverage_spent)
         # Ranked alternatives (slow: a second search per rank) and both families of loops only
         # where validity or coverage is at stake (a region's second stretch lies in no patch).
-        for alternatives in ((1, options.alternatives) if colour in ("red", "open") else (1,)):
+        for alternatives in ((1, options.alternatives) if colour in ("red",) + COVERAGE else (1,)):
             tried = points if alternatives == 1 else points[:1]
-            found = w.candidates(tried, alternatives, current, colour in ("red", "open"))
+            found = w.candidates(tried, alternatives, current, colour in ("red",) + COVERAGE)
             if colour == "uncovered":
                 splitting = [c for c in found if c[0][:2] > current[:2]]
             for s, cost, loop, point, predicted in found:
@@ -1299,8 +1335,9 @@ def _weave(w, ds, options, start=None):
                 for entry in entries:
                     _record(ds, result, entry)
                 continue
-        if colour == "open" and valid:
-            w.open_spent = (w.open_spent[0] + w.work - spent_before[0], w.open_spent[1] + elapsed() - spent_before[1])
+        if colour in COVERAGE and valid:
+            w.coverage_spent = (w.coverage_spent[0] + w.work - spent_before[0],
+                                w.coverage_spent[1] + elapsed() - spent_before[1])
         if added:
             _record(ds, result, added)
             continue
