@@ -119,11 +119,13 @@ def test_weaving_refines_a_rounded_box_into_regular_patches(rounded_box, tmp_pat
 def test_weaving_stops_on_its_work_budget_not_on_the_clock(rounded_box):
     """The budget counts work (loop queries by their settled nodes, derivations, layouts),
     so the clock does not enter: without any wall-clock limit the design is the same."""
-    timed = sw.weave(rounded_box, budget=60)
-    untimed = sw.weave(rounded_box, budget=60, time_limit_s=float("inf"), query_timeout_s=1e6)
+    timed = sw.weave(rounded_box, budget=40)
+    untimed = sw.weave(rounded_box, budget=40, time_limit_s=float("inf"), query_timeout_s=1e6)
     assert timed["stopped"] == "work budget" and timed["cancelled_queries"] == 0
     assert timed["design"].to_dict() == untimed["design"].to_dict()
-    assert 60 <= timed["work"] < 90           # the step that crosses the budget finishes
+    # The step that crosses the budget finishes; the patchless disc's strip (the second belt)
+    # has a budget of its own (coverage_spent), some 10 units.
+    assert 40 <= timed["work"] < 80
     more = sw.weave(rounded_box, budget=120)
     assert more["work"] > timed["work"] and more["patches"] > timed["patches"]
 

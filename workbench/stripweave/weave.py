@@ -1287,6 +1287,9 @@ def _weave(w, ds, options, start=None):
         # where validity or coverage is at stake (a region's second stretch lies in no patch).
         for alternatives in ((1, options.alternatives) if colour in ("red",) + COVERAGE else (1,)):
             tried = points if alternatives == 1 else points[:1]
+            # Every point where the strip fixes coarse structure or covers surface no patch would
+            # (a patchless disc's loop is a solid's second belt: the centre-first order of the
+            # colours left a soap box 2 patches and 56 % of its surface within the tolerance).
             found = w.candidates(tried, alternatives, current, colour in ("red",) + COVERAGE)
             if colour == "uncovered":
                 splitting = [c for c in found if c[0][:2] > current[:2]]
