@@ -183,3 +183,13 @@ def bored_plate(bores=4, pitch=12.0, radius=3.0, thickness=4.0, width=12.0):
     plate = Part.makeBox(bores * pitch, width, thickness)
     holes = [Part.makeCylinder(radius, thickness, Vector((i + 0.5) * pitch, width / 2, 0)) for i in range(bores)]
     return plate.cut(holes[0].fuse(holes[1:]) if bores > 1 else holes[0]).removeSplitter()
+
+
+def helical_tube(radius=5.0, pitch=2.5, turns=6, tube=0.9):
+    """A tube swept along a helix (a thread's shape): one B-spline face winding `turns`
+    times, its neighbouring turns 2 * (pitch / 2 - tube) apart, closed by two plane caps."""
+    helix = Part.makeHelix(pitch, pitch * turns, radius)
+    edge = helix.Edges[0]
+    start, tangent = edge.valueAt(edge.FirstParameter), edge.tangentAt(edge.FirstParameter)
+    profile = Part.Wire(Part.makeCircle(tube, start, tangent))
+    return Part.Wire(helix.Edges).makePipeShell([profile], True, True)

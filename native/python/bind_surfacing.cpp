@@ -78,8 +78,10 @@
 // project_to_face(surface, face, points, near=0) -> (n, 3) array
 //   the points' foot points on B-rep face `face` of the surface's source
 //   (occt/brep_source.h's project_to_face, on a copy of the B-rep of its
-//   own): near = 0 each by the global search; near > 0 in order, each
-//   from the previous answer (the refit's warm start). For tests.
+//   own): near = 0 each from the face's nearest start-grid sample (the
+//   global search where that does not settle); near > 0 in order, each
+//   from the previous answer (the refit's warm start); near < 0 each by
+//   OCCT's global search alone (the reference). For tests.
 #include "bind.h"
 
 #include "stripweave/core/error.h"

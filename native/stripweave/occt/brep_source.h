@@ -37,7 +37,13 @@
 //       come in spatial order and lie close to the surface (OCCT's
 //       NextValueOfUV searched globally whenever a step left the bounds:
 //       every sample by a face border projected onto its neighbour, about
-//       half the refit's sampling time); with `inside`, whether that
+//       half the refit's sampling time); with near = 0 (no previous answer
+//       to start from) the search starts at the face's start-grid sample
+//       nearest p (a grid over the face's (u, v) box, its normals turning
+//       15 degrees at most between neighbours) and falls back to the global
+//       one only when that does not settle; near < 0: the global search
+//       alone (OCCT's ShapeAnalysis_Surface, the reference for tests);
+//       with `inside`, whether that
 //       point lies within the face's trim (BRepTopAdaptor_FClass2d, cached
 //       per face; on the border counts as inside)
 //   dense_samples(spacing, chord)  the faces as a fine triangle mesh whose

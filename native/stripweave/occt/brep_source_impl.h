@@ -4,6 +4,7 @@
 // thread uses its own BrepSource::thread_copy().
 #pragma once
 
+#include "stripweave/cgal/point_locator.h"
 #include "stripweave/occt/brep_source.h"
 
 #include <BRepAdaptor_Surface.hxx>
@@ -39,6 +40,13 @@ struct BrepSource::Impl {
   mutable std::vector<std::unique_ptr<BRepAdaptor_Surface>> adaptors;  // per face, lazily (foot_on_face)
   mutable std::vector<std::array<double, 4>> uv_box;                   // per face with an adaptor: u0, u1, v0, v1
   mutable std::vector<double> face_size;  // per face, its box diagonal, lazily (0: not yet; project_to_face)
+  // Per face, lazily: its tessellation's nodes with their (u, v) and a locator of the nearest
+  // (nearest_node_uv); null locator: the face has no tessellation with (u, v) nodes.
+  struct FaceNodes {
+    std::vector<gp_Pnt2d> uv;
+    std::unique_ptr<PointLocator> locator;
+  };
+  mutable std::vector<std::unique_ptr<FaceNodes>> nodes;
   std::vector<std::string> warnings;                                   // repairs made on reading (sewing)
 
   explicit Impl(const TopoDS_Shape& s) : shape(s) {
@@ -53,6 +61,7 @@ struct BrepSource::Impl {
     adaptors.resize(faces.Extent());
     uv_box.resize(faces.Extent());
     face_size.assign(faces.Extent(), 0.0);
+    nodes.resize(faces.Extent());
   }
   const TopoDS_Face& face(Index i) const { return TopoDS::Face(faces(i + 1)); }
   const TopoDS_Edge& edge(Index i) const { return TopoDS::Edge(edges(i + 1)); }
