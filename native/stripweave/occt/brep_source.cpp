@@ -148,7 +148,9 @@ std::shared_ptr<BrepSource> BrepSource::checked(std::unique_ptr<Impl> impl, cons
 }
 
 std::shared_ptr<BrepSource> BrepSource::thread_copy() const {
-  return std::shared_ptr<BrepSource>(new BrepSource(std::make_unique<Impl>(impl_->shape)));
+  auto impl = std::make_unique<Impl>(impl_->shape);
+  impl->start_grids = impl_->start_grids;  // the face's alone: shared, built once
+  return std::shared_ptr<BrepSource>(new BrepSource(std::move(impl)));
 }
 
 void BrepSource::forget_warm_starts() const { std::fill(impl_->has_last_uv.begin(), impl_->has_last_uv.end(), 0); }
@@ -593,18 +595,27 @@ bool stationary(ShapeAnalysis_Surface& analyser, const gp_Pnt& p, const gp_Pnt2d
   return holds(uv.X(), u0, u1, surface->IsUPeriodic(), Su) && holds(uv.Y(), v0, v1, surface->IsVPeriodic(), Sv);
 }
 
-// The (u, v) of the start grid's sample nearest p (false: the face has none).
+// The (u, v) of the start grid's sample nearest p (false: the face has none, or its surface
+// is elementary: a plane, cylinder, cone, sphere or torus, whose global search OCCT solves in
+// closed form, faster than any start grid).
 bool nearest_start(const BrepSource::Impl& s, Index face, ShapeAnalysis_Surface& analyser, const Vec3& p,
                    gp_Pnt2d& uv) {
-  auto& nodes = s.nodes[face];
-  if (!nodes) {
-    try {
-      nodes = start_grid(s.face(face), *analyser.Adaptor3d());
-    } catch (const Standard_Failure&) {
-      nodes = std::make_unique<BrepSource::Impl::FaceNodes>();
-    }
+  switch (analyser.Adaptor3d()->GetType()) {
+    case GeomAbs_Plane: case GeomAbs_Cylinder: case GeomAbs_Cone: case GeomAbs_Sphere: case GeomAbs_Torus:
+      return false;
+    default:
+      break;
   }
-  if (!nodes->locator || nodes->locator->empty()) return false;
+  BrepSource::Impl::StartGrids& grids = *s.start_grids;
+  std::call_once(grids.once[face], [&] {
+    try {
+      grids.nodes[face] = start_grid(s.face(face), *analyser.Adaptor3d());
+    } catch (const Standard_Failure&) {
+      grids.nodes[face] = std::make_unique<BrepSource::Impl::FaceNodes>();
+    }
+  });
+  const auto& nodes = grids.nodes[face];
+  if (!nodes || !nodes->locator || nodes->locator->empty()) return false;
   uv = nodes->uv[nodes->locator->nearest(p)];
   return true;
 }

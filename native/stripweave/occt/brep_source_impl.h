@@ -24,6 +24,7 @@
 #include <algorithm>
 #include <array>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -40,13 +41,21 @@ struct BrepSource::Impl {
   mutable std::vector<std::unique_ptr<BRepAdaptor_Surface>> adaptors;  // per face, lazily (foot_on_face)
   mutable std::vector<std::array<double, 4>> uv_box;                   // per face with an adaptor: u0, u1, v0, v1
   mutable std::vector<double> face_size;  // per face, its box diagonal, lazily (0: not yet; project_to_face)
-  // Per face, lazily: its tessellation's nodes with their (u, v) and a locator of the nearest
-  // (nearest_node_uv); null locator: the face has no tessellation with (u, v) nodes.
+  // Per face, lazily: the start grid of a cold foot-point search (brep_source.cpp's
+  // start_grid), its samples' (u, v) and a locator of the nearest; null locator: none. The
+  // grids depend on the face alone, so an instance and its thread copies share them (built
+  // once, under a once_flag per face, then only read): the deviation's second look makes
+  // copies anew for every measurement, and rebuilding the grids made a refit slower.
   struct FaceNodes {
     std::vector<gp_Pnt2d> uv;
     std::unique_ptr<PointLocator> locator;
   };
-  mutable std::vector<std::unique_ptr<FaceNodes>> nodes;
+  struct StartGrids {
+    explicit StartGrids(size_t faces) : once(faces), nodes(faces) {}
+    std::vector<std::once_flag> once;
+    std::vector<std::unique_ptr<FaceNodes>> nodes;
+  };
+  std::shared_ptr<StartGrids> start_grids;
   std::vector<std::string> warnings;                                   // repairs made on reading (sewing)
 
   explicit Impl(const TopoDS_Shape& s) : shape(s) {
@@ -61,7 +70,7 @@ struct BrepSource::Impl {
     adaptors.resize(faces.Extent());
     uv_box.resize(faces.Extent());
     face_size.assign(faces.Extent(), 0.0);
-    nodes.resize(faces.Extent());
+    start_grids = std::make_shared<StartGrids>(faces.Extent());
   }
   const TopoDS_Face& face(Index i) const { return TopoDS::Face(faces(i + 1)); }
   const TopoDS_Edge& edge(Index i) const { return TopoDS::Edge(edges(i + 1)); }
