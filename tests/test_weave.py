@@ -270,6 +270,21 @@ def test_every_part_of_an_assembly_gets_patches():
     assert report["defects"]["uncovered_triangles"] == 0
 
 
+def test_an_open_sheet_with_no_curve_is_no_patchless_disc():
+    """An uncut open tube is one disc of valence 0 with no side along the open boundary, as a
+    solid's cap is; the weave's assessment says the part has open boundary, and the sheet is
+    not counted (it is left to the uncovered areas, whose curves cross nothing at first)."""
+    from stripweave.weave import _Weaver, patchless
+    tube = sw.from_shape(open_cylinder_shell(5.0, 20.0), target_triangles=4000)
+    w = _Weaver(DesignSession(tube, Design()), WeaveOptions())
+    a = w.assess()
+    assert len(a["regions"]) == 1 and a["regions"][0]["valence"] == 0 and a["regions"][0]["open_sides"] == 0
+    assert a["open_boundary"] and patchless(a) == 0
+    closed = _Weaver(DesignSession(sw.from_shape(Part.makeCylinder(4, 12), target_triangles=4000), Design()),
+                     WeaveOptions())
+    assert not closed.assess()["open_boundary"]
+
+
 def test_patchless_discs_count_after_validity_before_creases():
     """score(): a closed disc with no crossing on its boundary is worse than a crease region and
     better than a red region; a disc on the open boundary (a sheet's first curve) is not one."""
@@ -282,6 +297,7 @@ def test_patchless_discs_count_after_validity_before_creases():
         return {"regions": [region]}
     cap = assessment(valence=0)
     assert patchless(cap) == 1 and patchless(assessment(valence=0, open_sides=1)) == 0
+    assert patchless({**cap, "open_boundary": True}) == 0   # a sheet with no curve yet looks the same
     assert score(cap) > score(assessment(crease_excess=3))
     assert score(cap) < score(assessment(colour="red", disc=False))
 

@@ -255,8 +255,13 @@ def patchless(a):
     as "no patch yet"; on a part of several components (an assembly) the others' crossings
     hid it, and a cylinder's two caps, each holding its rim as a closed crease, were left in
     no patch while its crease seeds were refused for raising the crease excess. So they count
-    right after validity, before the creases. Discs that touch the open boundary are left to
-    open_stretches: a sheet's first curve crosses nothing either."""
+    right after validity, before the creases. Only on a part with no open boundary (the
+    assessment's "open_boundary", _Weaver.assess): a region's keys do not tell a cap from a
+    sheet with no curve yet (both a disc of valence 0 with no side along the open boundary),
+    and a sheet is left to open_stretches and the uncovered areas, its first curve crossing
+    nothing either (four ribbons seeded as caps: 12,600 triangles in no patch against 1,850)."""
+    if a.get("open_boundary"):
+        return 0
     return sum(1 for r in a["regions"] if r["disc"] and r["valence"] == 0 and r.get("open_sides", 0) == 0)
 
 
@@ -359,6 +364,8 @@ def _patchless_seeds(a, skip):
     a crease the disc holds (a cylinder's cap holds its rim: a loop across it is the one a
     crease-conforming layout wants there too), then the disc's seed points."""
     out = []
+    if not patchless(a):
+        return out
     regions = [(i, r) for i, r in enumerate(a["regions"])
                if r["disc"] and r["valence"] == 0 and r.get("open_sides", 0) == 0]
     for i, r in sorted(regions, key=lambda x: (-x[1]["area"], x[0])):
@@ -411,6 +418,7 @@ class _Weaver:
         self.red_again = None       # why the other colours stopped, once the red seed points were
                                     # asked once more at the end (_weave)
         self.user_strips = len(ds.design.strips)
+        self.open_boundary = ds.surface.report()["boundary_loops"] > 0   # (patchless)
         self.groups = {}            # index of an added strip -> 1 + its symmetric images, added after it
         self.image_tolerance = 0.0
         if options.symmetry:
@@ -504,7 +512,9 @@ class _Weaver:
     def assess(self, extra=(), seeds=True):
         self.check_cancel()
         self.spend("assess", WORK_ASSESS)
-        return native.weave_assessment(self.ds.native, list(extra), self.options.seeds_per_region if seeds else 0)
+        a = native.weave_assessment(self.ds.native, list(extra), self.options.seeds_per_region if seeds else 0)
+        a["open_boundary"] = self.open_boundary
+        return a
 
     def quality(self, a, layout, base_flaws=None):
         """What additions past validity lower: the real layout's mean corner deviation, plus
@@ -525,7 +535,9 @@ class _Weaver:
         self.check_cancel()
         self.spend("predict", WORK_PREDICT)
         layout = self.ds.native.layout_with([loop])
-        return layout, _assessment_of(layout)
+        a = _assessment_of(layout)
+        a["open_boundary"] = self.open_boundary
+        return layout, a
 
     def layout(self):
         self.check_cancel()
