@@ -260,9 +260,15 @@ def patchless(a):
     sheet with no curve yet (both a disc of valence 0 with no side along the open boundary),
     and a sheet is left to open_stretches and the uncovered areas, its first curve crossing
     nothing either (four ribbons seeded as caps: 12,600 triangles in no patch against 1,850)."""
+    return len(_patchless_regions(a))
+
+
+def _patchless_regions(a):
+    """(index, region) of the patchless discs (patchless)."""
     if a.get("open_boundary"):
-        return 0
-    return sum(1 for r in a["regions"] if r["disc"] and r["valence"] == 0 and r.get("open_sides", 0) == 0)
+        return []
+    return [(i, r) for i, r in enumerate(a["regions"])
+            if r["disc"] and r["valence"] == 0 and r.get("open_sides", 0) == 0]
 
 
 def open_stretches(a):
@@ -364,11 +370,7 @@ def _patchless_seeds(a, skip):
     a crease the disc holds (a cylinder's cap holds its rim: a loop across it is the one a
     crease-conforming layout wants there too), then the disc's seed points."""
     out = []
-    if not patchless(a):
-        return out
-    regions = [(i, r) for i, r in enumerate(a["regions"])
-               if r["disc"] and r["valence"] == 0 and r.get("open_sides", 0) == 0]
-    for i, r in sorted(regions, key=lambda x: (-x[1]["area"], x[0])):
+    for i, r in sorted(_patchless_regions(a), key=lambda x: (-x[1]["area"], x[0])):
         points = ([_crease_seed(r)] if "crease_seed" in r else []) + list(r["seeds"])
         points = [p for p in points if _key(p) not in skip]
         if points:
@@ -418,7 +420,7 @@ class _Weaver:
         self.red_again = None       # why the other colours stopped, once the red seed points were
                                     # asked once more at the end (_weave)
         self.user_strips = len(ds.design.strips)
-        self.open_boundary = ds.surface.report()["boundary_loops"] > 0   # (patchless)
+        self.open_boundary = bool(ds.surface.boundary_loops)   # the part has open boundary (patchless)
         self.groups = {}            # index of an added strip -> 1 + its symmetric images, added after it
         self.image_tolerance = 0.0
         if options.symmetry:

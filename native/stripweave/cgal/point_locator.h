@@ -1,9 +1,9 @@
 // PointLocator: the nearest of a set of points (CGAL kd-tree adapter).
 //
 // Built once per set (O(n log n)); answers in O(log n) on average. The B-rep
-// source uses it to start a local foot-point search from the face's
-// tessellation node nearest the query (occt/brep_source.cpp), where OCCT's
-// global search would sample a grid of the whole surface.
+// source uses it to start a local foot-point search from the sample of a
+// face's start grid nearest the query (occt/brep_source.cpp), where OCCT's
+// global search would sample a grid of the whole surface per query.
 //   PointLocator(points)  any units
 //   nearest(p) -> the index of the point nearest p (kInvalid when empty)
 //   empty()    -> no point

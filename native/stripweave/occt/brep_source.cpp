@@ -548,25 +548,25 @@ std::pair<int, int> start_grid_sides(const Adaptor3d_Surface& surface, double u0
   return {nu, nv};
 }
 
-std::unique_ptr<BrepSource::Impl::FaceNodes> start_grid(const TopoDS_Face& face, const Adaptor3d_Surface& surface) {
-  auto nodes = std::make_unique<BrepSource::Impl::FaceNodes>();
+std::unique_ptr<BrepSource::Impl::StartGrid> start_grid(const TopoDS_Face& face, const Adaptor3d_Surface& surface) {
+  auto grid = std::make_unique<BrepSource::Impl::StartGrid>();
   double u0, u1, v0, v1;
   BRepTools::UVBounds(face, u0, u1, v0, v1);
-  if (!(u1 > u0) || !(v1 > v0) || !std::isfinite(u1 - u0) || !std::isfinite(v1 - v0)) return nodes;
+  if (!(u1 > u0) || !(v1 > v0) || !std::isfinite(u1 - u0) || !std::isfinite(v1 - v0)) return grid;
   const auto [nu, nv] = start_grid_sides(surface, u0, u1, v0, v1);
   std::vector<Vec3> xyz;
   xyz.reserve((nu + 1) * (nv + 1));
-  nodes->uv.reserve((nu + 1) * (nv + 1));
+  grid->uv.reserve((nu + 1) * (nv + 1));
   gp_Pnt S;
   for (int i = 0; i <= nu; ++i)
     for (int j = 0; j <= nv; ++j) {
       const gp_Pnt2d uv(u0 + (u1 - u0) * i / nu, v0 + (v1 - v0) * j / nv);
       surface.D0(uv.X(), uv.Y(), S);
       xyz.push_back(to_vec(S));
-      nodes->uv.push_back(uv);
+      grid->uv.push_back(uv);
     }
-  nodes->locator = std::make_unique<PointLocator>(xyz);
-  return nodes;
+  grid->locator = std::make_unique<PointLocator>(xyz);
+  return grid;
 }
 
 // Whether uv is a foot point of p (the first-order conditions of the nearest point within the
@@ -609,14 +609,14 @@ bool nearest_start(const BrepSource::Impl& s, Index face, ShapeAnalysis_Surface&
   BrepSource::Impl::StartGrids& grids = *s.start_grids;
   std::call_once(grids.once[face], [&] {
     try {
-      grids.nodes[face] = start_grid(s.face(face), *analyser.Adaptor3d());
+      grids.grid[face] = start_grid(s.face(face), *analyser.Adaptor3d());
     } catch (const Standard_Failure&) {
-      grids.nodes[face] = std::make_unique<BrepSource::Impl::FaceNodes>();
+      grids.grid[face] = std::make_unique<BrepSource::Impl::StartGrid>();
     }
   });
-  const auto& nodes = grids.nodes[face];
-  if (!nodes || !nodes->locator || nodes->locator->empty()) return false;
-  uv = nodes->uv[nodes->locator->nearest(p)];
+  const auto& grid = grids.grid[face];
+  if (!grid || !grid->locator || grid->locator->empty()) return false;
+  uv = grid->uv[grid->locator->nearest(p)];
   return true;
 }
 

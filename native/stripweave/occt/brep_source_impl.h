@@ -46,14 +46,14 @@ struct BrepSource::Impl {
   // grids depend on the face alone, so an instance and its thread copies share them (built
   // once, under a once_flag per face, then only read): the deviation's second look makes
   // copies anew for every measurement, and rebuilding the grids made a refit slower.
-  struct FaceNodes {
+  struct StartGrid {
     std::vector<gp_Pnt2d> uv;
     std::unique_ptr<PointLocator> locator;
   };
   struct StartGrids {
-    explicit StartGrids(size_t faces) : once(faces), nodes(faces) {}
+    explicit StartGrids(size_t faces) : once(faces), grid(faces) {}
     std::vector<std::once_flag> once;
-    std::vector<std::unique_ptr<FaceNodes>> nodes;
+    std::vector<std::unique_ptr<StartGrid>> grid;
   };
   std::shared_ptr<StartGrids> start_grids;
   std::vector<std::string> warnings;                                   // repairs made on reading (sewing)
