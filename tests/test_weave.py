@@ -272,17 +272,32 @@ def test_every_part_of_an_assembly_gets_patches():
 
 def test_an_open_sheet_with_no_curve_is_no_patchless_disc():
     """An uncut open tube is one disc of valence 0 with no side along the open boundary, as a
-    solid's cap is; the weave's assessment says the part has open boundary, and the sheet is
-    not counted (it is left to the uncovered areas, whose curves cross nothing at first)."""
+    solid's cap is; its boundary is the open boundary (on_open_boundary), so it is not counted
+    (it is left to the uncovered areas, whose curves cross nothing at first)."""
     from stripweave.weave import _Weaver, patchless
     tube = sw.from_shape(open_cylinder_shell(5.0, 20.0), target_triangles=4000)
-    w = _Weaver(DesignSession(tube, Design()), WeaveOptions())
-    a = w.assess()
+    a = _Weaver(DesignSession(tube, Design()), WeaveOptions()).assess()
     assert len(a["regions"]) == 1 and a["regions"][0]["valence"] == 0 and a["regions"][0]["open_sides"] == 0
-    assert a["open_boundary"] and patchless(a) == 0
+    assert a["regions"][0]["on_open_boundary"] and patchless(a) == 0
     closed = _Weaver(DesignSession(sw.from_shape(Part.makeCylinder(4, 12), target_triangles=4000), Design()),
                      WeaveOptions())
-    assert not closed.assess()["open_boundary"]
+    assert not any(r["on_open_boundary"] for r in closed.assess()["regions"])
+
+
+def test_solids_beside_an_open_sheet_get_clean_patches():
+    """The cylinder, box and cone of the assembly above beside an open square sheet: the part
+    has open boundary, yet the solids' caps are closed discs (on_open_boundary false), and
+    they count as patchless. When the part's open boundary alone ruled patchless discs out,
+    the caps were mended by the crease and colour phases instead, and the box came out with
+    76 patches, 71 of them degenerate."""
+    sheet = Part.Face(Part.makePolygon([Vector(-30, 0, 0), Vector(-10, 0, 0), Vector(-10, 20, 0),
+                                        Vector(-30, 20, 0), Vector(-30, 0, 0)]))
+    shape = Part.makeCompound([Part.makeCylinder(4, 12), Part.makeBox(8, 8, 8, Vector(20, 0, 0)),
+                               Part.makeCone(5, 2, 10, Vector(45, 0, 0)), sheet])
+    report = sw.weave(sw.from_shape(shape, target_triangles=9000))
+    assert report["valid"] and len(report["components"]) == 4
+    assert all(c["patches"] > 0 and c["clean"] for c in report["components"])
+    assert report["defects"]["uncovered_triangles"] == 0
 
 
 def test_patchless_discs_count_after_validity_before_creases():
@@ -292,12 +307,14 @@ def test_patchless_discs_count_after_validity_before_creases():
 
     def assessment(valence=4, colour="none", crease_excess=0, disc=True, open_sides=0):
         region = {"colour": colour, "disc": disc, "genus": 0, "euler_characteristic": 1 if disc else 0,
-                  "boundaries": 1 if disc else 2, "open_sides": open_sides, "crease_excess": crease_excess,
+                  "boundaries": 1 if disc else 2, "open_sides": open_sides, "on_open_boundary": open_sides > 0,
+                  "crease_excess": crease_excess,
                   "excess_extrema": 0, "valence": valence, "ideal_valence": 4.0}
         return {"regions": [region]}
     cap = assessment(valence=0)
     assert patchless(cap) == 1 and patchless(assessment(valence=0, open_sides=1)) == 0
-    assert patchless({**cap, "open_boundary": True}) == 0   # a sheet with no curve yet looks the same
+    sheet = {"regions": [{**cap["regions"][0], "on_open_boundary": True}]}
+    assert patchless(sheet) == 0   # a sheet no curve has reached yet: the same keys but this one
     assert score(cap) > score(assessment(crease_excess=3))
     assert score(cap) < score(assessment(colour="red", disc=False))
 

@@ -14,6 +14,8 @@
 //                    "euler_characteristic", "boundaries", "genus", "area",
 //                    "open_sides" (sides along the open boundary: one vertex
 //                    closes one, regions.h),
+//                    "on_open_boundary" (some of its boundary is open
+//                    boundary: a sheet, not a cap, regions.h),
 //                    "triangles" (refined), "singularities": [{"vertex",
 //                    "index", "position"}]}]
 //     valid        no region is red
@@ -103,6 +105,7 @@ py::dict regions_dict(const Surface& s, const std::vector<Singularity>& singular
     d["euler_characteristic"] = r.euler_characteristic;
     d["boundaries"] = r.boundaries;
     d["open_sides"] = r.open_sides;
+    d["on_open_boundary"] = r.on_open_boundary;
     d["genus"] = r.genus;
     d["area"] = r.area * scale2;
     d["triangles"] = r.triangles;

@@ -12,7 +12,8 @@
 //     regions   [{"valence", "disc", "colour", "total_curvature",
 //                 "ideal_valence", "area", "euler_characteristic", "genus",
 //                 "boundaries" (its boundary cycles), "open_sides" (its sides
-//                 along the open boundary, regions.h), "singularities" (count),
+//                 along the open boundary, regions.h), "on_open_boundary" (some of
+//                 its boundary is open boundary, regions.h), "singularities" (count),
 //                 "singularity_quarters" (each one's index in quarters: +1 at a
 //                 cube corner, -1 where five patches meet),
 //                 "seeds": [[x,y,z], ...], "clearance": [...]}]
@@ -130,6 +131,7 @@ void bind_weave(py::module_& m) {
           x["genus"] = g.genus;
           x["boundaries"] = g.boundaries;
           x["open_sides"] = g.open_sides;
+      x["on_open_boundary"] = g.on_open_boundary;
           x["colour"] = colour_name(g.colour);
           x["total_curvature"] = g.total_curvature;
           x["ideal_valence"] = ideal_valence(g.total_curvature);

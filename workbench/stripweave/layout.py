@@ -35,7 +35,7 @@ import json
 from ._native import native
 
 REGION_KEYS = ("valence", "disc", "colour", "total_curvature", "ideal_valence", "euler_characteristic",
-               "boundaries", "open_sides", "genus", "area", "excess_extrema", "crease_problem", "crease_excess")
+               "boundaries", "open_sides", "on_open_boundary", "genus", "area", "excess_extrema", "crease_problem", "crease_excess")
 
 
 DEFECT_KEYS = ("non_quad_patches", "overlapping_edges", "valence2_vertices", "high_valence_vertices",

@@ -255,20 +255,18 @@ def patchless(a):
     as "no patch yet"; on a part of several components (an assembly) the others' crossings
     hid it, and a cylinder's two caps, each holding its rim as a closed crease, were left in
     no patch while its crease seeds were refused for raising the crease excess. So they count
-    right after validity, before the creases. Only on a part with no open boundary (the
-    assessment's "open_boundary", _Weaver.assess): a region's keys do not tell a cap from a
-    sheet with no curve yet (both a disc of valence 0 with no side along the open boundary),
-    and a sheet is left to open_stretches and the uncovered areas, its first curve crossing
-    nothing either (four ribbons seeded as caps: 12,600 triangles in no patch against 1,850)."""
+    right after validity, before the creases. A disc on the open boundary is none (regions.h,
+    on_open_boundary): a sheet no curve has reached yet is a disc of valence 0 with no side
+    along the open boundary too, and it is left to open_stretches and the uncovered areas,
+    its first curve crossing nothing either (four ribbons seeded as caps: 12,600 triangles in
+    no patch against 1,850)."""
     return len(_patchless_regions(a))
 
 
 def _patchless_regions(a):
     """(index, region) of the patchless discs (patchless)."""
-    if a.get("open_boundary"):
-        return []
     return [(i, r) for i, r in enumerate(a["regions"])
-            if r["disc"] and r["valence"] == 0 and r.get("open_sides", 0) == 0]
+            if r["disc"] and r["valence"] == 0 and not r.get("on_open_boundary", False)]
 
 
 def open_stretches(a):
@@ -420,7 +418,6 @@ class _Weaver:
         self.red_again = None       # why the other colours stopped, once the red seed points were
                                     # asked once more at the end (_weave)
         self.user_strips = len(ds.design.strips)
-        self.open_boundary = bool(ds.surface.boundary_loops)   # the part has open boundary (patchless)
         self.groups = {}            # index of an added strip -> 1 + its symmetric images, added after it
         self.image_tolerance = 0.0
         if options.symmetry:
@@ -514,9 +511,7 @@ class _Weaver:
     def assess(self, extra=(), seeds=True):
         self.check_cancel()
         self.spend("assess", WORK_ASSESS)
-        a = native.weave_assessment(self.ds.native, list(extra), self.options.seeds_per_region if seeds else 0)
-        a["open_boundary"] = self.open_boundary
-        return a
+        return native.weave_assessment(self.ds.native, list(extra), self.options.seeds_per_region if seeds else 0)
 
     def quality(self, a, layout, base_flaws=None):
         """What additions past validity lower: the real layout's mean corner deviation, plus
@@ -537,9 +532,7 @@ class _Weaver:
         self.check_cancel()
         self.spend("predict", WORK_PREDICT)
         layout = self.ds.native.layout_with([loop])
-        a = _assessment_of(layout)
-        a["open_boundary"] = self.open_boundary
-        return layout, a
+        return layout, _assessment_of(layout)
 
     def layout(self):
         self.check_cancel()

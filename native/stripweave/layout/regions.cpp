@@ -82,6 +82,7 @@ Regions compute_regions(const Surface& s, const LoopArrangement& A, const std::v
       if (visited[3 * t0 + i0] || !A.separates(rt.triangle_edges[t0][i0])) continue;
       Index t = t0;
       int i = i0, corners = 0, open_sides = 0;
+      bool open = false;
       do {
         visited[3 * t + i] = 1;
         const Index in = rt.triangle_edges[t][i];
@@ -100,11 +101,13 @@ Regions compute_regions(const Surface& s, const LoopArrangement& A, const std::v
         if (in != out_edge && (loop_in || loop_out) && !(loop_in && loop_out && continues(A, in, out_edge, b)))
           ++corners;
         if (in != out_edge && loop_in && !loop_out) ++open_sides;  // a stretch of open boundary starts
+        open = open || !loop_in;  // a separating edge on no loop is the open boundary
         t = u, i = j;
       } while (t != t0 || i != i0);
       ++R[region[t0]].boundaries;
       R[region[t0]].valence += corners;
       R[region[t0]].open_sides += open_sides;
+      R[region[t0]].on_open_boundary = R[region[t0]].on_open_boundary || open;
     }
   }
 

@@ -38,6 +38,13 @@
 //                no patch (layout_defects.h: uncovered). It is still a
 //                disc, valid in the paper's sense; weaving parts its
 //                stretches (weave_seeds.h: bridge_anchors, weave.py).
+//     on_open_boundary  some of its boundary is open boundary. A disc of
+//                valence 0 is either a cap (its one boundary cycle a closed
+//                loop that crosses nothing) or a sheet no curve has reached
+//                yet (its cycle the open boundary): the same valence,
+//                open_sides 0, and only this tells them apart. A cap's
+//                vertex has no primal edge (no patch covers it) and a loop
+//                across it mends that; a sheet needs its first curve.
 //     total_curvature  K = the Gaussian curvature inside plus the geodesic
 //                curvature of the region's open-boundary sides (including
 //                the turn at boundary corners), so that for a disc whose
@@ -80,6 +87,7 @@ struct Region {
   bool disc = false;
   int valence = 0;
   int open_sides = 0;  // sides along the open boundary (above)
+  bool on_open_boundary = false;  // some boundary edge is open boundary (above)
   double total_curvature = 0;
   std::vector<Index> singularities;  // indices into the input singularities
   int excess_extrema = 0;            // curvature extrema of one kind beyond the first (assessment.h)
