@@ -81,6 +81,23 @@ py::list position(const Surface& s, const Vec3& p) {
 
 }  // namespace
 
+void put_region_keys(py::dict& d, const Region& r, double scale2) {
+  d["valence"] = r.valence;
+  d["disc"] = r.disc;
+  d["colour"] = colour_name(r.colour);
+  d["total_curvature"] = r.total_curvature;
+  d["ideal_valence"] = ideal_valence(r.total_curvature);
+  d["euler_characteristic"] = r.euler_characteristic;
+  d["boundaries"] = r.boundaries;
+  d["open_sides"] = r.open_sides;
+  d["on_open_boundary"] = r.on_open_boundary;
+  d["genus"] = r.genus;
+  d["area"] = r.area * scale2;
+  d["excess_extrema"] = r.excess_extrema;
+  d["crease_problem"] = crease_problem_name(r.crease_problem);
+  d["crease_excess"] = r.crease_excess;
+}
+
 py::dict regions_dict(const Surface& s, const std::vector<Singularity>& singular, const Computed& c, bool details) {
   const LoopArrangement& A = c.arrangement;
   const Regions& G = c.regions;
@@ -97,22 +114,9 @@ py::dict regions_dict(const Surface& s, const std::vector<Singularity>& singular
       sing.append(item);
     }
     py::dict d;
-    d["valence"] = r.valence;
-    d["disc"] = r.disc;
-    d["colour"] = colour_name(r.colour);
-    d["total_curvature"] = r.total_curvature;
-    d["ideal_valence"] = ideal_valence(r.total_curvature);
-    d["euler_characteristic"] = r.euler_characteristic;
-    d["boundaries"] = r.boundaries;
-    d["open_sides"] = r.open_sides;
-    d["on_open_boundary"] = r.on_open_boundary;
-    d["genus"] = r.genus;
-    d["area"] = r.area * scale2;
+    put_region_keys(d, r, scale2);
     d["triangles"] = r.triangles;
     d["singularities"] = sing;
-    d["excess_extrema"] = r.excess_extrema;
-    d["crease_problem"] = crease_problem_name(r.crease_problem);
-    d["crease_excess"] = r.crease_excess;
     regions.append(d);
   }
 

@@ -30,6 +30,12 @@ std::vector<stripweave::LoopPath> embed_loops(const stripweave::LoopSession& ses
 Computed compute(const stripweave::Surface& s, std::vector<stripweave::LoopPath>& paths,
                  const std::vector<stripweave::Singularity>& singular);
 
+// A region's assessment keys that regions() and weave_assessment() share (valence, disc,
+// colour, total_curvature, ideal_valence, euler_characteristic, boundaries, open_sides,
+// on_open_boundary, genus, area in model units squared: `scale2`, excess_extrema,
+// crease_problem, crease_excess), into `d`.
+void put_region_keys(pybind11::dict& d, const stripweave::Region& r, double scale2);
+
 // The keys documented in bind_regions.cpp.
 pybind11::dict regions_dict(const stripweave::Surface& s, const std::vector<stripweave::Singularity>& singular,
                             const Computed& c, bool details);

@@ -41,6 +41,7 @@
 //   follow). A one-direction query is much faster than the all-directions
 //   hover query: the fallback when that one runs too long.
 #include "bind.h"
+#include "bind_regions.h"
 
 #include "stripweave/core/error.h"
 #include "stripweave/layout/weave_seeds.h"
@@ -125,24 +126,11 @@ void bind_weave(py::module_& m) {
         for (size_t r = 0; r < regions.regions.size(); ++r) {
           const Region& g = regions.regions[r];
           py::dict x;
-          x["valence"] = g.valence;
-          x["disc"] = g.disc;
-          x["euler_characteristic"] = g.euler_characteristic;
-          x["genus"] = g.genus;
-          x["boundaries"] = g.boundaries;
-          x["open_sides"] = g.open_sides;
-      x["on_open_boundary"] = g.on_open_boundary;
-          x["colour"] = colour_name(g.colour);
-          x["total_curvature"] = g.total_curvature;
-          x["ideal_valence"] = ideal_valence(g.total_curvature);
-          x["area"] = g.area * scale2;
+          put_region_keys(x, g, scale2);
           x["singularities"] = g.singularities.size();
           std::vector<int> quarters;
           for (Index k : g.singularities) quarters.push_back(d.field().singularities[k].quarter_index);
           x["singularity_quarters"] = quarters;
-          x["excess_extrema"] = g.excess_extrema;
-          x["crease_problem"] = crease_problem_name(g.crease_problem);
-          x["crease_excess"] = g.crease_excess;
           // Where a loop across the crease would resolve a crease region (crease_structure.h).
           const Index split = regions.creases.regions[r].split_vertex;
           if (g.crease_problem != CreaseProblem::None && split != kInvalid) {

@@ -107,7 +107,7 @@ Regions compute_regions(const Surface& s, const LoopArrangement& A, const std::v
       ++R[region[t0]].boundaries;
       R[region[t0]].valence += corners;
       R[region[t0]].open_sides += open_sides;
-      R[region[t0]].on_open_boundary = R[region[t0]].on_open_boundary || open;
+      R[region[t0]].on_open_boundary |= open;
     }
   }
 
