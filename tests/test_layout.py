@@ -386,6 +386,87 @@ def test_a_pin_keeps_a_corner_of_the_part_and_a_crease_vertex_on_its_crease(cube
     assert L1["crease_conforming"] == L0["crease_conforming"]
 
 
+def _edge_between(L, a, b):
+    ends = lambda e: {tuple(np.sign(L["vertices"][i]["position"]).astype(int)) for i in e["vertices"]}
+    return next(k for k, e in enumerate(L["edges"]) if ends(e) == {a, b})
+
+
+def _distance_to_points(points, p):
+    """From p to an edge's points (its refined vertices, at most a solver edge apart)."""
+    return float(np.min(np.linalg.norm(np.asarray(points) - np.asarray(p), axis=1)))
+
+
+def test_an_edge_routed_by_hand_passes_its_point_and_the_layout_stays_clean():
+    """Paper §7, manual: the user decides where in its corridor a patch boundary lies. Three
+    great circles on a sphere of radius 5; the edge from the (+,+,+) octant's vertex to the
+    (+,+,-) one's, routed through a point of the (+,+,+) octant well off its shortest path,
+    passes that point (within one solver edge), crosses its loop once, keeps its two
+    vertices, and the layout keeps six clean quad patches (the other edges stay clear of
+    it). The edge is named by where it crossed its loop, so the route holds whatever path
+    the edge had. Without routes, the layout of before."""
+    surface = sw.from_shape(sphere(5), target_triangles=12000)
+    ds = DesignSession(surface, Design(GREAT_CIRCLES))
+    before = compute_layout(ds)
+    k = _edge_between(before, (1, 1, 1), (1, 1, -1))
+    edge = math.sqrt(4 * math.pi * 25 / 12000 * 4 / math.sqrt(3))   # a solver edge, about
+    target = 5 * np.array([0.9, 0.15, 0.35]) / np.linalg.norm([0.9, 0.15, 0.35])
+    assert _distance_to_points(before["edges"][k]["points"], target) > 5 * edge
+    ds.design.edge_routes = [{"through": list(target), "across": before["edges"][k]["crossing_point"]}]
+    ds.apply_layout_inputs()
+    after = compute_layout(ds)
+    check_layout(after)
+    assert after["clean"] and len(after["patches"]) == 6, (after["problems"], after["defects"])
+    routed = [e for e in after["edges"] if e["through"] is not None]
+    assert len(routed) == 1
+    e = routed[0]
+    assert e["vertices"] == before["edges"][k]["vertices"]
+    assert _distance_to_points(e["points"], target) <= edge
+    assert np.linalg.norm(np.asarray(e["through"]) - target) <= edge
+    assert e["length"] > before["edges"][k]["length"] + 2 * edge
+    # Crosses its loop (z = 0) once: the sign of z changes once along it.
+    z = np.asarray(e["points"])[:, 2]
+    assert np.count_nonzero(np.diff(np.sign(np.where(np.abs(z) < 1e-9, 0, z))[np.abs(z) >= 1e-9]) != 0) == 1
+    assert [v["position"] for v in after["vertices"]] == [v["position"] for v in before["vertices"]]
+    ds.design.edge_routes = []
+    ds.apply_layout_inputs()
+    assert compute_layout(ds)["edges"] == before["edges"]
+
+
+def test_an_edge_on_a_crease_keeps_it_when_routed_by_hand(cube_layout):
+    """A route may not take a crease off the primal edges: the cube's edges follow its
+    creases, so a route of one through a face's middle is refused (a problem line names
+    it) and the layout stays as it was, crease-conforming and clean."""
+    ds, before = cube_layout
+    e = before["edges"][0]
+    assert e["sharp"]
+    routed = DesignSession(ds.surface, Design(CUBE_BELTS, edge_routes=[
+        {"through": [5.0, 5.0, 10.0], "across": e["crossing_point"]}]))
+    L = compute_layout(routed)
+    assert any("edge route 1" in p and "crease" in p for p in L["problems"]), L["problems"]
+    assert all(x["through"] is None for x in L["edges"])
+    assert [x["points"] for x in L["edges"]] == [x["points"] for x in before["edges"]]
+    assert L["clean"] and L["crease_conforming"]
+
+
+def test_edge_routes_round_trip_through_design_json_and_bad_ones_are_named(tmp_path):
+    route = {"through": [1.0, 2.0, 3.0], "across": [4.0, 5.0, 6.0]}
+    d = Design(GREAT_CIRCLES, edge_routes=[route])
+    path = tmp_path / "d.json"
+    d.save(str(path))
+    assert Design.load(str(path)).edge_routes == [route]
+    assert "edge_routes" not in Design(GREAT_CIRCLES).to_dict()
+    for bad, words in (({"through": [1, 2, 3]}, "edge route 1"), ({"through": [1, 2], "across": [1, 2, 3]}, "through"),
+                       ("x", "edge route 1")):
+        data = d.to_dict()
+        data["edge_routes"] = [bad]
+        with pytest.raises(sw._native.InputError, match=words):
+            Design.from_dict(data)
+    data = d.to_dict()
+    data["edge_routes"] = {"through": [1, 2, 3]}
+    with pytest.raises(sw._native.InputError, match="edge_routes"):
+        Design.from_dict(data)
+
+
 def test_pins_round_trip_through_design_json_and_bad_ones_are_named(tmp_path):
     d = Design(GREAT_CIRCLES, pins=[[1.0, 2.0, 3.0]])
     path = tmp_path / "d.json"

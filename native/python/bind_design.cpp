@@ -176,6 +176,25 @@ void bind_design(py::module_& m) {
           },
           "Points (model units) where the user put primal vertices (paper §7): each moves its region's vertex there")
       .def_property(
+          "edge_routes",
+          [](const DesignState& d) {
+            std::vector<std::pair<std::array<double, 3>, std::array<double, 3>>> out;
+            for (const EdgeRoute& r : d.edge_routes()) {
+              const Vec3 t = d.surface().similarity.to_model(r.through), a = d.surface().similarity.to_model(r.across);
+              out.push_back({{t.x(), t.y(), t.z()}, {a.x(), a.y(), a.z()}});
+            }
+            return out;
+          },
+          [](DesignState& d, const std::vector<std::pair<std::array<double, 3>, std::array<double, 3>>>& routes) {
+            std::vector<EdgeRoute> normalized;
+            const Similarity& sim = d.surface().similarity;
+            for (const auto& [t, a] : routes)
+              normalized.push_back({sim.to_normalized(Vec3(t[0], t[1], t[2])), sim.to_normalized(Vec3(a[0], a[1], a[2]))});
+            d.set_edge_routes(std::move(normalized));
+          },
+          "Primal edges routed by hand (paper §7), [(through, across)] in model units: the edge whose arc passes "
+          "nearest `across` goes through `through`")
+      .def_property(
           "layout_symmetries",
           [](const DesignState& d) {
             py::list out;

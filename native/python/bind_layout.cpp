@@ -15,7 +15,9 @@
 //                  vertex this one is the symmetric image of, None for an
 //                  orbit's representative and without symmetries)}]
 //     edges      [{"points" (n,3), "vertices": [i, j], "arc", "loop",
-//                  "sharp", "boundary", "length"}]
+//                  "sharp", "boundary", "length", "crossing_point" (where
+//                  it crosses its arc), "through" (the point of a hand
+//                  route, DesignState.edge_routes, it goes through; None)}]
 //     patches    [{"edges": [4], "reversed": [4], "corners": [4 vertices],
 //                  "corner_angles_deg": [4], "area", "quad", "crease_length"
 //                  (creases inside the patch, not on its sides), "creased"
@@ -133,12 +135,13 @@ struct DesignLayout {
 // Arrangement and regions of embedded loops, and (primal) their quad layout.
 DesignLayout layout_of(const Surface& s, std::vector<LoopPath>& paths, const std::vector<Singularity>& singular,
                        bool primal, const std::vector<Vec3>& pins = {},
-                       const std::vector<Symmetry>& symmetries = {}) {
+                       const std::vector<Symmetry>& symmetries = {}, const std::vector<EdgeRoute>& routes = {}) {
   DesignLayout out;
   out.computed = compute(s, paths, singular);
   if (primal) {
     const auto t0 = Clock::now();
-    out.layout = build_quad_layout(s, out.computed.arrangement, out.computed.regions, singular, pins, symmetries);
+    out.layout = build_quad_layout(s, out.computed.arrangement, out.computed.regions, singular, pins, symmetries,
+                                   routes);
     out.layout_ms = millis(t0, Clock::now());
   }
   return out;
@@ -150,7 +153,8 @@ DesignLayout design_layout(const DesignState& d, bool primal, const std::vector<
   std::vector<LoopPath> paths;
   for (const DesignStrip& st : d.strips()) paths.push_back(st.path);
   for (const Loop& loop : extra) paths.push_back(loop_path(d.session(), loop));
-  return layout_of(d.surface(), paths, d.field().singularities, primal, d.vertex_pins(), d.layout_symmetries());
+  return layout_of(d.surface(), paths, d.field().singularities, primal, d.vertex_pins(), d.layout_symmetries(),
+                   d.edge_routes());
 }
 
 py::dict layout_dict(const Surface& s, const std::vector<Singularity>& singular, const DesignLayout& dl,
@@ -191,6 +195,14 @@ py::dict layout_dict(const Surface& s, const std::vector<Singularity>& singular,
     d["sharp"] = e.sharp;
     d["boundary"] = e.boundary;
     d["length"] = e.length * sim.scale;
+    const Vec3 c = sim.to_model(L.positions[e.path[e.crossing]]);
+    d["crossing_point"] = std::vector<double>{c.x(), c.y(), c.z()};
+    if (e.through == kInvalid) {
+      d["through"] = py::none();
+    } else {
+      const Vec3 t = sim.to_model(L.positions[e.through]);
+      d["through"] = std::vector<double>{t.x(), t.y(), t.z()};
+    }
     d["defects"] = kind_names(L.defects.edge_defects[edges.size()]);
     edges.append(d);
   }

@@ -2,7 +2,9 @@
 tests/gui/test_pins_headless.py: three great circles on Part.makeSphere(5)
 (eight octant vertices); the (+,+,+) vertex is moved to P1, then to P2 (the
 second pin replaces the first: same region), the (-,-,-) vertex to P3 (a
-second pin); Clear removes them; undo restores them; the pins are in the
+second pin); the edge from the (+,+,+) vertex to the (+,+,-) one is routed
+through T1, then T2 (the second route replaces the first: same edge);
+Clear removes pins and routes; undo restores them; both are in the
 exported design.json and survive save / reopen.  Writes JSON to
 $STRIPWEAVE_HEADLESS_RESULT and exits with os._exit."""
 
@@ -25,6 +27,17 @@ def on_sphere(d):
 
 
 P1, P2, P3 = on_sphere((0.8, 0.3, 0.52)), on_sphere((0.35, 0.75, 0.5)), on_sphere((-0.3, -0.5, -0.8))
+# Points of the (+,+,+) and (+,+,-) octants, off the edge between their vertices.
+T1, T2 = on_sphere((0.9, 0.15, 0.35)), on_sphere((0.2, 0.9, -0.35))
+
+
+def edge_between(layout, a, b):
+    lj = json.loads(layout.LayoutJson)
+    sign = lambda p: tuple(1 if c > 0 else -1 for c in p)
+    for k, e in enumerate(lj["edges"]):
+        if {sign(lj["vertices"][i]["position"]) for i in e["vertices"]} == {a, b}:
+            return k, e
+    return None, None
 
 
 def octant(layout, signs):
@@ -40,7 +53,10 @@ def state(layout, design):
     lj = json.loads(layout.LayoutJson)
     _, a = octant(layout, (1, 1, 1))
     _, b = octant(layout, (-1, -1, -1))
-    return {"pins": pins_of(design), "placements": sorted(v["placement"] for v in lj["vertices"]),
+    routed = [e for e in lj["edges"] if e.get("through") is not None]
+    _, between = edge_between(layout, (1, 1, 1), (1, 1, -1))
+    return {"routes": routes_of(design), "routed": routed, "between": between,
+            "pins": pins_of(design), "placements": sorted(v["placement"] for v in lj["vertices"]),
             "ppp": a, "mmm": b, "patches": layout.PatchCount, "clean": layout.Clean,
             "undo": (design.Document.UndoNames or [None])[0]}
 
@@ -49,7 +65,7 @@ try:
     import FreeCAD as App
     import Part
     from freecad.stripweave_wb import design_model, layout_model, surface_model
-    from freecad.stripweave_wb.layout_pins import clear_pins, move_vertex, pins_of
+    from freecad.stripweave_wb.layout_pins import clear_pins, move_vertex, pins_of, route_edge, routes_of
 
     doc = App.newDocument("PinsHeadless")
     doc.UndoMode = 1
@@ -73,6 +89,18 @@ try:
     k, _ = octant(layout, (-1, -1, -1))
     move_vertex(layout, k, P3)
     result["second"] = state(layout, design)
+    result["points"].update({"T1": T1, "T2": T2})
+    k, _ = edge_between(layout, (1, 1, 1), (1, 1, -1))
+    route_edge(layout, k, T1)
+    result["routed"] = state(layout, design)
+    k, _ = edge_between(layout, (1, 1, 1), (1, 1, -1))
+    route_edge(layout, k, T2)
+    result["rerouted"] = state(layout, design)
+    try:
+        route_edge(layout, 99, T1)
+        result["bad_edge"] = None
+    except Exception as exc:
+        result["bad_edge"] = "{}: {}".format(type(exc).__name__, exc)
     try:
         move_vertex(layout, 99, P3)
         result["bad_vertex"] = None
@@ -81,7 +109,9 @@ try:
     path = os.path.join(WORKDIR, "pinned_design.json")
     design_model.export_design(design, path)
     with open(path) as f:
-        result["exported_pins"] = json.load(f).get("pins")
+        exported = json.load(f)
+        result["exported_pins"] = exported.get("pins")
+        result["exported_routes"] = exported.get("edge_routes")
     result["cleared_returned"] = clear_pins(layout)
     result["cleared"] = state(layout, design)
     doc.undo()
@@ -93,6 +123,7 @@ try:
     doc = App.openDocument(fcstd)
     design = [o for o in doc.Objects if design_model.is_design(o)][0]
     result["reopened_pins"] = pins_of(design)
+    result["reopened_routes"] = routes_of(design)
 except Exception:
     result["error"] = traceback.format_exc()
 finally:

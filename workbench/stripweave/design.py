@@ -126,11 +126,17 @@ class Strip:
 class Design:
     """An ordered list of strips, with the loop options and the model it was made on, and the
     points where the user put primal vertices (`pins`, model units: paper §7, a vertex dragged
-    within its region; the layout moves each pinned region's vertex there)."""
+    within its region; the layout moves each pinned region's vertex there), and the primal
+    edges the user routed by hand (`edge_routes`, model units: paper §7, where in its corridor
+    a patch boundary lies; each {"through": point, "across": point} takes the edge whose arc
+    passes nearest "across" through "through")."""
 
-    def __init__(self, strips=(), options=None, model=None, extra=None, symmetry=None, pins=None):
+    def __init__(self, strips=(), options=None, model=None, extra=None, symmetry=None, pins=None,
+                 edge_routes=None):
         self.strips = [s if isinstance(s, Strip) else Strip(s) for s in strips]
         self.pins = [[float(x) for x in p] for p in (pins or ())]
+        self.edge_routes = [{k: [float(x) for x in r[k]] for k in ("through", "across")}
+                            for r in (edge_routes or ())]
         self.symmetry = None if symmetry is None else [dict(x) for x in symmetry]
         self.options = {**DEFAULT_OPTIONS, **(options or {})}
         self.model = dict(model or {})
@@ -199,6 +205,14 @@ class Design:
         if not isinstance(pins, list):
             raise _error("", "'pins' must be a list of points")
         pins = [_vector(p, f", pin {i + 1}", "a pin") for i, p in enumerate(pins)]
+        routes = data.get("edge_routes", [])
+        if not isinstance(routes, list):
+            raise _error("", "'edge_routes' must be a list of {\"through\": point, \"across\": point}")
+        for i, r in enumerate(routes):
+            if not isinstance(r, dict) or set(r) != {"through", "across"}:
+                raise _error(f", edge route {i + 1}", "an edge route needs exactly 'through' and 'across' points")
+        routes = [{k: _vector(r[k], f", edge route {i + 1}", k) for k in ("through", "across")}
+                  for i, r in enumerate(routes)]
         strips = []
         for i, s in enumerate(data["strips"]):
             where = f", strip {i + 1}"
@@ -221,7 +235,8 @@ class Design:
                                 {k: v for k, v in s.items() if k not in ("anchors", "closed")}))
         return cls(strips, options, data.get("model"),
                    {k: v for k, v in data.items()
-                    if k not in ("format", "version", "model", "options", "strips", "symmetry", "pins")}, symmetry, pins)
+                    if k not in ("format", "version", "model", "options", "strips", "symmetry", "pins",
+                                 "edge_routes")}, symmetry, pins, routes)
 
     def to_dict(self):
         d = {**self.extra, "format": FORMAT, "version": VERSION, "model": dict(self.model),
@@ -230,6 +245,8 @@ class Design:
             d["symmetry"] = [dict(x) for x in self.symmetry]
         if self.pins:
             d["pins"] = [list(p) for p in self.pins]
+        if self.edge_routes:
+            d["edge_routes"] = [{k: list(r[k]) for k in ("through", "across")} for r in self.edge_routes]
         return d
 
     @classmethod

@@ -43,9 +43,11 @@ class DesignSession:
                 strip.closed = bool(self.native.strip(i)["closed"])
 
     def apply_layout_inputs(self):
-        """Hand the design's pins and symmetries to the layout: the layout's alone (nothing
-        to derive), so the regions' vertices follow them without recomputing the strips."""
+        """Hand the design's pins, edge routes and symmetries to the layout: the layout's alone
+        (nothing to derive), so the regions' vertices and edges follow them without recomputing
+        the strips."""
         self.native.vertex_pins = self.design.pins
+        self.native.edge_routes = [(r["through"], r["across"]) for r in self.design.edge_routes]
         self.native.layout_symmetries = list(self.design.symmetry or [])
 
     def add_strip(self, anchors):

@@ -15,6 +15,10 @@
 // the exit (crease_route), and keeps that route: so the crease network lies
 // on primal edges wherever the regions can carry it (issue 17).
 //
+// An edge the user routed by hand (EdgeRoute, primal_edge_routes.cpp) is the
+// cheapest corridor path through the user's point (Untangler::route_through),
+// routed before the others are untangled and kept, as a crease route is.
+//
 // Costs: a refined edge costs its length, times kCheap on a sharp feature
 // or the open boundary (a primal edge whose corridor holds a crease follows
 // it, and edges of boundary regions run along the boundary between boundary
@@ -139,6 +143,50 @@ class Untangler {
     return found;
   }
 
+  // Route k by hand through wedge `through` of one of its regions (an
+  // EdgeRoute): the cheapest path from its left vertex to the point, then on
+  // to its right vertex, crossing the arc once on the way, around the routes
+  // already pinned, the second leg never re-entering the first (no spur).
+  // The route is pinned from then on. False (and its route kept) if the
+  // pinned routes leave no such path.
+  bool pinned(Index k) const { return pinned_[k] != 0; }
+
+  bool route_through(Index k, Index through) {
+    const Index L = ctx_.regions.arc_left[k], R = ctx_.regions.arc_right[k];
+    const Index r = ctx_.wedge_region[through];
+    const Index source = vertex_wedge_[L], target = nw_ + vertex_wedge_[R];
+    const auto free = [&](Index v) { return pinned_use_[v] > 0 ? kInf : 0.0; };
+    std::vector<Index> best;
+    Index best_at = 0;
+    double best_cost = kInf;
+    // The point in the left region is reached before the arc (layer 0), in
+    // the right one after it; in both when the arc has one region on both sides.
+    for (Index layer = 0; layer < 2; ++layer) {
+      if (r != (layer == 0 ? L : R)) continue;
+      const Index via = through + layer * nw_;
+      std::vector<Index> first, second;
+      Index first_at = 0, second_at = 0;
+      if (!search(k, source, via, free, first, first_at)) continue;
+      const double first_cost = dist_[via];
+      std::vector<std::uint8_t> taken(use_.size(), 0);
+      for (size_t i = 0; i + 1 < first.size(); ++i) taken[first[i]] = 1;
+      const auto fresh = [&](Index v) { return taken[v] ? kInf : free(v); };
+      if (!search(k, via, target, fresh, second, second_at)) continue;
+      if (first_cost + dist_[target] >= best_cost) continue;
+      best_cost = first_cost + dist_[target];
+      best = first;
+      best.insert(best.end(), second.begin() + 1, second.end());
+      best_at = layer == 0 ? static_cast<Index>(first.size()) - 1 + second_at : first_at;
+    }
+    if (best.empty()) return false;
+    count(k, -1);
+    routed[k] = std::move(best), crossing[k] = best_at;
+    count(k, +1);
+    if (!pinned_[k]) for_inner(k, [&](Index v) { ++pinned_use_[v]; });
+    pinned_[k] = 1;
+    return true;
+  }
+
   bool rip_up_and_reroute(Index k) {
     count(k, -1);
     std::vector<Index> path;
@@ -216,6 +264,15 @@ class Untangler {
   // crossing the arc once and never entering a loop crossing.
   template <class Penalty>
   bool search(Index k, const Penalty& penalty, std::vector<Index>& path, Index& crossing_at) {
+    const Index L = ctx_.regions.arc_left[k], R = ctx_.regions.arc_right[k];
+    return search(k, vertex_wedge_[L], nw_ + vertex_wedge_[R], penalty, path, crossing_at);
+  }
+
+  // The same between two layered wedges (layer 1: past the arc): source and
+  // target in one layer give a path that does not cross the arc.
+  template <class Penalty>
+  bool search(Index k, Index source, Index target, const Penalty& penalty, std::vector<Index>& path,
+              Index& crossing_at) {
     const LoopArc& arc = ctx_.arrangement.arcs[k];
     const Index L = ctx_.regions.arc_left[k], R = ctx_.regions.arc_right[k];
     std::vector<std::pair<Index, Index>> links;  // (from wedge in layer 0, to wedge in layer 1)
@@ -227,7 +284,6 @@ class Untangler {
       links.push_back({wr, wl});
     }
     std::sort(links.begin(), links.end());
-    const Index source = vertex_wedge_[L], target = nw_ + vertex_wedge_[R];
     for (Index x : touched_) dist_[x] = kInf, pred_[x] = kInvalid;
     touched_.clear();
     using Item = std::pair<double, Index>;
@@ -283,6 +339,7 @@ class Untangler {
 }  // namespace
 
 std::vector<PrimalEdge> route_primal_edges(const PrimalContext& ctx, const std::vector<Index>& vertex_wedge,
+                                           const std::vector<ResolvedEdgeRoute>& routes,
                                            std::vector<std::string>& problems) {
   const LoopArrangement& A = ctx.arrangement;
   const MeshTopology& rt = A.topology;
@@ -354,6 +411,19 @@ std::vector<PrimalEdge> route_primal_edges(const PrimalContext& ctx, const std::
   std::vector<double> edge_cost(rt.num_edges());
   for (Index e = 0; e < rt.num_edges(); ++e) edge_cost[e] = cost(e);
   Untangler u(ctx, vertex_wedge, std::move(edge_cost), std::move(guess), std::move(guess_crossing), std::move(pinned));
+  // Edges routed by hand go first and keep their routes, as crease routes
+  // do; an edge on a crease exit keeps the crease (the crease must lie on
+  // primal edges), as a pin leaves a part's corner where it is.
+  std::vector<Index> through(na, kInvalid);
+  for (const ResolvedEdgeRoute& r : routes) {
+    const std::string which = "edge route " + std::to_string(r.route + 1) + " (arc " + std::to_string(r.arc) + ")";
+    if (u.pinned(r.arc))
+      problems.push_back(which + ": the edge follows a crease and keeps its route");
+    else if (u.route_through(r.arc, r.wedge))
+      through[r.arc] = ctx.wedges.vertex[r.wedge];
+    else
+      problems.push_back(which + ": the routes pinned before it leave no corridor path through the point");
+  }
   std::vector<Index> stuck;
   for (Index k : order)
     if (u.shared(k) && !u.reroute(k)) stuck.push_back(k);
@@ -384,6 +454,7 @@ std::vector<PrimalEdge> route_primal_edges(const PrimalContext& ctx, const std::
     }
     edge.path = std::move(routed[k]);
     edge.crossing = routed_crossing[k];
+    edge.through = through[k];
     double sharp = 0, boundary = 0;
     for (size_t i = 0; i + 1 < edge.path.size(); ++i) {
       const Index e = rt.find_edge(edge.path[i], edge.path[i + 1]);

@@ -6,9 +6,9 @@
 // neighbours along the edge, each kept on the surface inside its own star
 // (the refined triangles around it, at their original positions: exactly
 // the surface there) and only where none of its triangles would flip.
-// Vertices on a loop (the edge's crossing), on a sharp feature or on the
-// open boundary stay: there the edge follows what it must follow. The
-// refined mesh's connectivity is unchanged, so the patches cut along the
+// Vertices on a loop (the edge's crossing), on a sharp feature, on the
+// open boundary or where the user routed the edge through stay: there the
+// edge follows what it must follow. The refined mesh's connectivity is unchanged, so the patches cut along the
 // edges are the same sets of triangles, with moved vertices.
 #include "stripweave/layout/primalization.h"
 
@@ -54,6 +54,8 @@ void straighten_primal_edges(const PrimalContext& ctx, QuadLayout& L) {
     if (ctx.edge_feature[e]) pinned[rt.edges[e][0]] = pinned[rt.edges[e][1]] = 1;
   for (const PrimalVertex& v : L.vertices)
     if (v.refined_vertex != kInvalid) pinned[v.refined_vertex] = 1;
+  for (const PrimalEdge& e : L.edges)  // a hand route keeps its point
+    if (e.through != kInvalid) pinned[e.through] = 1;
 
   auto flips = [&](Index x, const Vec3& q) {
     for (const Index* t = rt.vertex_triangles.begin(x); t != rt.vertex_triangles.end(x); ++t) {

@@ -91,7 +91,21 @@ void symmetrize_primal_vertices(const PrimalContext& ctx, const std::vector<Symm
 std::vector<PrimalVertex> place_primal_vertices(const PrimalContext& ctx, const std::vector<Singularity>& singularities,
                                                 std::vector<Index>& vertex_wedge);
 
+// resolve_edge_routes  which edge each hand route (EdgeRoute) takes, and
+//                      the wedge it goes through (primal_edge_routes.cpp)
+struct ResolvedEdgeRoute {
+  Index route = 0;        // in the input
+  Index arc = kInvalid;   // the edge's arc
+  Index wedge = kInvalid; // the point it goes through, in one of the arc's two regions
+};
+std::vector<ResolvedEdgeRoute> resolve_edge_routes(const PrimalContext& ctx, const std::vector<Index>& vertex_wedge,
+                                                   const std::vector<EdgeRoute>& routes,
+                                                   std::vector<std::string>& problems);
+
+// route_primal_edges   one edge per arc (quad_layout.h), the resolved hand
+//                      routes pinned first
 std::vector<PrimalEdge> route_primal_edges(const PrimalContext& ctx, const std::vector<Index>& vertex_wedge,
+                                           const std::vector<ResolvedEdgeRoute>& routes,
                                            std::vector<std::string>& problems);
 
 void straighten_primal_edges(const PrimalContext& ctx, QuadLayout& layout);

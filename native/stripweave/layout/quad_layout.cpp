@@ -133,7 +133,7 @@ std::pair<Index, Index> PrimalContext::arc_side_wedges(Index k, size_t i) const 
 
 QuadLayout build_quad_layout(const Surface& s, const LoopArrangement& A, const Regions& G,
                              const std::vector<Singularity>& singularities, const std::vector<Vec3>& pins,
-                             const std::vector<Symmetry>& symmetries) {
+                             const std::vector<Symmetry>& symmetries, const std::vector<EdgeRoute>& routes) {
   QuadLayout layout;
   layout.valid = G.valid;
   if (!G.valid) {
@@ -149,7 +149,8 @@ QuadLayout build_quad_layout(const Surface& s, const LoopArrangement& A, const R
   layout.vertices = place_primal_vertices(ctx, singularities, vertex_wedge);
   pin_primal_vertices(ctx, pins, layout.vertices, vertex_wedge);
   symmetrize_primal_vertices(ctx, symmetries, layout.vertices, vertex_wedge);
-  layout.edges = route_primal_edges(ctx, vertex_wedge, layout.problems);
+  const std::vector<ResolvedEdgeRoute> resolved = resolve_edge_routes(ctx, vertex_wedge, routes, layout.problems);
+  layout.edges = route_primal_edges(ctx, vertex_wedge, resolved, layout.problems);
   for (const PrimalEdge& e : layout.edges) {
     ++layout.vertices[e.v0].valence;
     ++layout.vertices[e.v1].valence;

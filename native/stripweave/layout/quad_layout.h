@@ -2,13 +2,15 @@
 // implies, embedded in the refined mesh of their arrangement.
 //
 // build_quad_layout(surface, arrangement, regions, singularities, pins,
-//                   symmetries) -> QuadLayout
+//                   symmetries, routes) -> QuadLayout
 //   Input : the surface; the loops' arrangement (loop_arrangement.h) and its
 //           regions (regions.h), computed with the same singularities
 //           (cross_field.h); pins: points (normalized units) where the user
 //           put primal vertices (§7: dragged within their regions), none by
 //           default; symmetries: the reflections and rotations the design
-//           accepted (paper §5.8; normalized units), none by default.
+//           accepted (paper §5.8; normalized units), none by default;
+//           routes: primal edges the user drew through points of their
+//           corridors (§7, manual; EdgeRoute), none by default.
 //   Structure (fixed by the loops): one primal vertex per region, one primal
 //           edge per arc (a loop's piece between crossings) joining the
 //           regions on its two sides, one quad patch per crossing bounded by
@@ -54,7 +56,10 @@
 //               it. The edge crosses its arc once, where the two trees'
 //               distances sum to the least. Edges that would share vertices
 //               are re-routed apart (one after another, then ripping up
-//               the edges that close a corridor: primal_edges.cpp); then the zig-zag of the mesh-edge paths
+//               the edges that close a corridor: primal_edges.cpp). An
+//               edge routed by hand (routes: EdgeRoute, below) is the
+//               shortest corridor path through the user's point, routed
+//               before the others, which keep clear of it; then the zig-zag of the mesh-edge paths
 //               is relaxed on the surface (primal_straightening.cpp).
 //               A region whose creases form a star (crease_structure.h)
 //               takes its vertex at the star's node (a crease junction, end
@@ -70,6 +75,7 @@
 #pragma once
 
 #include "stripweave/layout/cut_wedges.h"
+#include "stripweave/layout/edge_route.h"
 #include "stripweave/layout/layout_defects.h"
 #include "stripweave/layout/regions.h"
 #include "stripweave/surface/creases.h"
@@ -106,6 +112,7 @@ struct PrimalEdge {
   bool sharp = false;            // runs on sharp feature curves (most of its length)
   bool boundary = false;         // runs on the open boundary
   double length = 0;             // normalized units
+  Index through = kInvalid;      // refined vertex a hand route (EdgeRoute) takes it through
 };
 
 struct PrimalPatch {
@@ -153,6 +160,6 @@ constexpr double kCreaseSlack = 1e-6;  // of the bounding-box diagonal
 
 QuadLayout build_quad_layout(const Surface& surface, const LoopArrangement& arrangement, const Regions& regions,
                              const std::vector<Singularity>& singularities, const std::vector<Vec3>& pins = {},
-                             const std::vector<Symmetry>& symmetries = {});
+                             const std::vector<Symmetry>& symmetries = {}, const std::vector<EdgeRoute>& routes = {});
 
 }  // namespace stripweave

@@ -30,6 +30,7 @@
 #pragma once
 
 #include "stripweave/elastica/loop_session.h"
+#include "stripweave/layout/edge_route.h"
 #include "stripweave/strips/compatibility.h"
 #include "stripweave/symmetry/symmetry.h"
 
@@ -87,6 +88,11 @@ class DesignState {
   // the loops, field and strips do not depend on them, only the layout.
   void set_vertex_pins(std::vector<Vec3> pins) { pins_ = std::move(pins); }
   const std::vector<Vec3>& vertex_pins() const { return pins_; }
+  // Primal edges the user routed by hand (paper §7: where in its corridor a
+  // patch boundary lies), normalized units (quad_layout.h, EdgeRoute). The
+  // layout's alone, like the pins.
+  void set_edge_routes(std::vector<EdgeRoute> routes) { edge_routes_ = std::move(routes); }
+  const std::vector<EdgeRoute>& edge_routes() const { return edge_routes_; }
   // The symmetries the design accepted (paper §5.8), normalized units: the
   // layout puts the vertices of regions that are each other's images at
   // each other's images (primal_vertex_symmetry.cpp). The layout's alone,
@@ -160,6 +166,7 @@ class DesignState {
   double angle_deg_ = 45.0;
   std::vector<DesignStrip> strips_;
   std::vector<Vec3> pins_;
+  std::vector<EdgeRoute> edge_routes_;
   std::vector<Symmetry> layout_symmetries_;
   CrossField field_;
   Parameterization param_;

@@ -25,13 +25,15 @@ def _layout_or_say(what):
 
 
 class EditLayoutVerticesCommand:
-    """Edit layout vertices: drag primal vertices within their regions."""
+    """Edit layout vertices: drag primal vertices within their regions, and edges through
+    points of their corridors."""
 
     def GetResources(self):
         return {"Pixmap": icon_path("EditLayoutVertices.svg"), "Accel": "Y, V", "MenuText": "Edit layout vertices",
                 "ToolTip": "Edit layout vertices (Y, V): drag a vertex of the selected Layout within its region; "
                            "where you release it on the part it stays (a pin of the design, drawn as a green "
-                           "square). Esc or this command again ends it."}
+                           "square). Drag an edge to route it through the point where you release it (an edge "
+                           "route of the design). Esc or this command again ends it."}
 
     def IsActive(self):
         return App.ActiveDocument is not None
@@ -50,12 +52,12 @@ class EditLayoutVerticesCommand:
 
 
 class ClearLayoutPinsCommand:
-    """Clear layout pins: every vertex of the layout back to its automatic place."""
+    """Clear layout pins: every vertex and edge of the layout back to its automatic place."""
 
     def GetResources(self):
         return {"Pixmap": icon_path("ClearLayoutPins.svg"), "MenuText": "Clear layout pins",
-                "ToolTip": "Clear layout pins: remove the vertices placed by hand from the selected Layout's "
-                           "design; they go back to their automatic places (undoable)."}
+                "ToolTip": "Clear layout pins: remove the vertices placed and the edges routed by hand from the "
+                           "selected Layout's design; they go back to their automatic places (undoable)."}
 
     def IsActive(self):
         return App.ActiveDocument is not None

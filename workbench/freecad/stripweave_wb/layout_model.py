@@ -10,8 +10,9 @@ App side (works under ``freecadcmd``)::
     layout.Shape                             # compound: the layout's edges (wires) and vertices
     json.loads(layout.LayoutJson)            # layout.json
 
-Inputs: ``Design`` (link) and the design's ``pins`` (design.json: primal
-vertices the user placed, paper §7; layout_pins.py edits them).  Outputs: ``Shape``, ``LayoutJson`` (layout.json,
+Inputs: ``Design`` (link) and the design's ``pins`` and ``edge_routes``
+(design.json: primal vertices the user placed and edges the user routed,
+paper §7; layout_pins.py edits them).  Outputs: ``Shape``, ``LayoutJson`` (layout.json,
 what a reopened document shows), ``Valid``, ``Clean``, ``PatchCount``,
 ``Regions`` (counts by colour), ``Defects`` (one line per defect, with where)
 and ``Status``.  The region colours (red: not a disc; orange and yellow:
@@ -39,8 +40,8 @@ def layouts_of(design):
 
 
 def compute(ds, params=None, task=None):
-    """On the worker: layout.json of the DesignSession with the pins of
-    ``params`` and, for drawing, the solver mesh with per triangle its
+    """On the worker: layout.json of the DesignSession with the pins and
+    edge routes of ``params`` and, for drawing, the solver mesh with per triangle its
     region, its region's colour and its patch (of the refined triangles the
     arrangement cut it into, the last: as preview.png)."""
     import numpy as np
@@ -51,7 +52,10 @@ def compute(ds, params=None, task=None):
     # the session may hold older ones, so the layout sets those it is computed for.
     pins = [list(map(float, p)) for p in (params or {}).get("pins", [])]
     ds.design.pins = pins
+    ds.design.edge_routes = [{k: list(map(float, r[k])) for k in ("through", "across")}
+                             for r in (params or {}).get("edge_routes", [])]
     ds.native.vertex_pins = pins
+    ds.native.edge_routes = [(r["through"], r["across"]) for r in ds.design.edge_routes]
     raw = ds.native.layout(True)
     data = layout_json(raw)
     colours = np.array([r["colour"] for r in raw["regions"]] + ["none"])
@@ -134,12 +138,14 @@ class LayoutModel(DerivedObject):
         return d if d is not None and is_design(d) else None
 
     def parameters(self, obj):
-        """The design's pins: moving a vertex changes the layout, not the derived design."""
+        """The design's pins and edge routes: moving a vertex or an edge changes the layout,
+        not the derived design."""
         design = self.design_of(obj)
         try:
-            return {"pins": design.Proxy.design(design).pins if design is not None else []}
+            d = design.Proxy.design(design) if design is not None else None
+            return {"pins": d.pins if d else [], "edge_routes": d.edge_routes if d else []}
         except Exception:   # a DesignJson that does not parse: the design's recompute says why
-            return {"pins": []}
+            return {"pins": [], "edge_routes": []}
 
     def compute(self, ds, params, task):
         return compute(ds, params, task)

@@ -6,8 +6,10 @@ App side (works under ``freecadcmd``)::
 
     from freecad.stripweave_wb import layout_pins
     layout_pins.move_vertex(layout, k, (x, y, z))   # transaction "Move layout vertex"
-    layout_pins.clear_pins(layout)                   # transaction "Clear layout pins"
+    layout_pins.route_edge(layout, k, (x, y, z))    # transaction "Re-route layout edge"
+    layout_pins.clear_pins(layout)                   # transaction "Clear layout pins" (and routes)
     layout_pins.pins_of(layout.Design)               # [[x, y, z], ...]
+    layout_pins.routes_of(layout.Design)             # [{"through": p, "across": q}, ...]
 
 Inputs: a Layout object (layout_model.py) whose layout.json is current,
 the index of one of its vertices, a point on the part.  Output: the
@@ -15,6 +17,13 @@ Design's DesignJson with the pins changed (so the FCStd and an exported
 design.json keep them); the Layout recomputes from it.  Each region holds
 one primal vertex, so a region holds at most one pin that matters: moving
 vertex k replaces every pin lying in k's region (the one that placed it).
+
+Edges likewise (paper §7: "where within a dual loop corridor a patch
+boundary should lie"): edge k re-routed through a point of its corridor
+becomes an edge route of the Design (design.json's ``edge_routes``:
+{"through": the point, "across": where edge k crosses its loop}, which
+names the edge whatever route it takes); a new route of an edge replaces
+its old one.
 """
 
 import json
@@ -25,6 +34,7 @@ from . import import_stripweave
 from .design_model import transaction
 
 MOVE = "Move layout vertex"
+ROUTE = "Re-route layout edge"
 CLEAR = "Clear layout pins"
 
 
@@ -33,15 +43,25 @@ def pins_of(design):
     return [list(p) for p in design.Proxy.design(design).pins]
 
 
-def _write_pins(design, pins, name):
-    """Replace the Design's pins in one transaction ``name`` and recompute
-    (the design's strips and options are kept, the JSON validated)."""
+def routes_of(design):
+    """The Design's edge routes as [{"through": [x, y, z], "across": [x, y, z]}, ...]."""
+    return [dict(r) for r in design.Proxy.design(design).edge_routes]
+
+
+def _write_pins(design, pins, name, routes=None):
+    """Replace the Design's pins (and, if given, its edge routes) in one
+    transaction ``name`` and recompute (the design's strips and options are
+    kept, the JSON validated)."""
     import_stripweave()
     from stripweave.design import Design
     data = json.loads(design.DesignJson)
     data["pins"] = [[float(c) for c in p] for p in pins]
     if not data["pins"]:
         del data["pins"]
+    if routes is not None:
+        data["edge_routes"] = [{k: [float(c) for c in r[k]] for k in ("through", "across")} for r in routes]
+        if not data["edge_routes"]:
+            del data["edge_routes"]
     data = Design.from_dict(data).to_dict()
     doc = design.Document
     with transaction(doc, name):
@@ -92,12 +112,39 @@ def move_vertex(layout_obj, vertex, point):
     return pins
 
 
-def clear_pins(layout_obj):
-    """Remove every pin of the Layout's Design (undo step "Clear layout
-    pins"); the vertices go back to their automatic places.  False if there
-    were none."""
+def edge_of_route(layout, route):
+    """The layout.json edge a route names: the one whose crossing point is
+    nearest its "across" point (None without edges)."""
+    edges = layout.get("edges", [])
+    if not edges:
+        return None
+    crossings = np.asarray([e["crossing_point"] for e in edges], dtype=float)
+    return int(np.argmin(np.linalg.norm(crossings - np.asarray(route["across"], dtype=float), axis=1)))
+
+
+def route_edge(layout_obj, edge, point):
+    """Route layout edge ``edge`` through surface point ``point`` (undo step
+    "Re-route layout edge"); the route replaces the edge's earlier one.
+    Returns the Design's new routes.  ValueError (nothing changed) for an
+    edge the layout does not have."""
+    layout = layout_obj.Proxy.layout(layout_obj)
+    edges = layout.get("edges", [])
+    if not 0 <= int(edge) < len(edges):
+        raise ValueError("StripWeave: layout '{}' has no edge {}".format(layout_obj.Label, edge))
     design = layout_obj.Design
-    if not pins_of(design):
+    routes = [r for r in routes_of(design) if edge_of_route(layout, r) != int(edge)]
+    routes.append({"through": [float(c) for c in point],
+                   "across": [float(c) for c in edges[int(edge)]["crossing_point"]]})
+    _write_pins(design, pins_of(design), ROUTE, routes)
+    return routes
+
+
+def clear_pins(layout_obj):
+    """Remove every pin and edge route of the Layout's Design (undo step
+    "Clear layout pins"); the vertices and edges go back to their automatic
+    places.  False if there were none."""
+    design = layout_obj.Design
+    if not pins_of(design) and not routes_of(design):
         return False
-    _write_pins(design, [], CLEAR)
+    _write_pins(design, [], CLEAR, [])
     return True

@@ -1,16 +1,28 @@
 """The "Edit layout vertices" tool (paper §7, manual primalization): drag
-a primal vertex of a Layout object within its region with the mouse.
+a primal vertex of a Layout object within its region, or a primal edge
+through a new point of its corridor, with the mouse.
 
 * a left press within PICK_TOLERANCE_PX of a layout vertex's dot (on the
   side of the part facing the viewer) grabs it (closed-hand cursor; an open
   hand over a vertex shows that a press would grab it);
-* dragging shows a green square (a pinned vertex's dot) at the point of the part under the cursor;
-* the release on the part pins the vertex there: the point becomes a pin
+* dragging shows a green square (a pinned vertex's dot) at the point of the part under the
+  cursor while that point lies in the vertex's region (paper §7: a vertex is dragged *within*
+  its region); outside it the square stays at the last point inside and the cursor shows that
+  the point is refused;
+* the release pins the vertex at the square (the release point, or the last point of the
+  region the drag passed): the point becomes a pin
   of the Layout's Design, replacing the pin of that vertex's region
   (layout_pins.move_vertex, one undoable transaction "Move layout
   vertex"); the Layout recomputes in the background and draws the vertex,
   now placed "pinned", as a green square (layout_view.py).  A release off
   the part moves nothing;
+* a left press within PICK_TOLERANCE_PX of a layout edge's line (off the
+  vertices' dots) grabs the edge; the release on the part re-routes it
+  through the point there (layout_pins.route_edge: an edge route of the
+  Design, replacing that edge's earlier one; one undoable transaction
+  "Re-route layout edge"); the point is drawn as a green square.  The
+  drag is kept within the edge's corridor (its two regions) as a vertex's
+  within its region;
 * presses elsewhere go on to the navigation style (rotate, pan);
 * preselection and selection are off in the view while the tool runs
   (view_input.ViewCapture); Esc, or the command again, ends it.
@@ -20,7 +32,7 @@ happen during a scene traversal): the edit runs from a zero-delay timer.
 
 Scriptable (tests, macros)::
 
-    tool = layout_tool.start(layout_obj); tool.vertex_at(x, y); tool.close()
+    tool = layout_tool.start(layout_obj); tool.vertex_at(x, y); tool.edge_at(x, y); tool.close()
 """
 
 import numpy as np
@@ -135,6 +147,9 @@ class LayoutVertexTool:
         self.closed = False
         self.marker = DragMarker()
         self.grabbed = None        # the vertex index while one is dragged
+        self.grabbed_edge = None   # the edge index while one is dragged
+        self.allowed = None        # while dragging: the regions the point may lie in (None: any)
+        self.last_inside = None    # the last point of the drag inside them
         self.last_error = None
         self._filter = _EscFilter(self)
         self._capture = None       # ViewCapture while the tool runs
@@ -149,8 +164,8 @@ class LayoutVertexTool:
         self._capture = ViewCapture(self.view, self.marker.root, (
             (coin.SoLocation2Event, self._on_move), (coin.SoMouseButtonEvent, self._on_button),
             (coin.SoKeyboardEvent, self._on_key)), self._filter)
-        messages.message("Edit layout vertices: drag a vertex of '{}' within its region to pin it there; "
-                         "Esc ends".format(self.obj().Label))
+        messages.message("Edit layout vertices: drag a vertex of '{}' within its region to pin it there, "
+                         "or an edge to route it through a point of its corridor; Esc ends".format(self.obj().Label))
 
     def close(self):
         """End the tool (idempotent)."""
@@ -195,6 +210,66 @@ class LayoutVertexTool:
         best = int(np.argmin(gaps))
         return int(near[best]) if gaps[best] <= HIDDEN_FRACTION * diagonal else None
 
+    def edge_at(self, x, y):
+        """The index of the layout edge whose line passes within
+        PICK_TOLERANCE_PX of Coin position (x, y) on the side of the part
+        facing the viewer (of several, the one nearest on screen), or None."""
+        obj = self.obj()
+        edges = obj.Proxy.layout(obj).get("edges", []) if obj is not None else []
+        if not edges:
+            return None
+        point = self.pick(x, y)
+        if point is None:
+            return None
+        points = [np.asarray(e["points"], dtype=float) for e in edges]
+        everything = np.concatenate(points)
+        diagonal = float(np.linalg.norm(np.ptp(everything, axis=0))) or 1.0
+        best, best_px = None, PICK_TOLERANCE_PX
+        for k, pts in enumerate(points):
+            # Only the edge's points near the surface point under the cursor can be
+            # the line seen there: the others are projected no more.
+            near = pts[np.linalg.norm(pts - np.asarray(point), axis=1) <= HIDDEN_FRACTION * diagonal]
+            if not len(near):
+                continue
+            screen = np.asarray([tuple(self.view.getPointOnScreen(App.Vector(*p)))[:2] for p in near])
+            px = float(np.min(np.hypot(screen[:, 0] - x, screen[:, 1] - y)))
+            if px <= best_px:
+                best, best_px = k, px
+        return best
+
+    def regions_of_grab(self):
+        """The regions (layout.json indices) the grabbed vertex or edge may be
+        dragged in: the vertex's region, the edge's two; None when the region
+        mesh is not in memory (no restriction: the layout snaps the point)."""
+        obj = self.obj()
+        layout = obj.Proxy.layout(obj) if obj is not None else {}
+        mesh = obj.Proxy.mesh(obj) if obj is not None else None
+        if mesh is None or "region" not in mesh:
+            return None
+        vertices = layout.get("vertices", [])
+        ends = [self.grabbed] if self.grabbed is not None else layout["edges"][self.grabbed_edge]["vertices"]
+        return {int(vertices[v]["region"]) for v in ends}
+
+    def inside(self, point):
+        """Whether surface point ``point`` lies in the grab's regions."""
+        from .layout_pins import region_of_point
+        if self.allowed is None:
+            return True
+        obj = self.obj()
+        mesh = obj.Proxy.mesh(obj) if obj is not None else None
+        return mesh is not None and region_of_point(mesh, point) in self.allowed
+
+    def _drag_to(self, x, y):
+        """The point of the drag at (x, y): the part's point there inside the
+        grab's regions, else the last one inside (None if none yet)."""
+        point = self.pick(x, y)
+        if point is not None and self.inside(point):
+            self.last_inside = point
+            self._set_cursor(QtCore.Qt.ClosedHandCursor)
+        else:
+            self._set_cursor(QtCore.Qt.ForbiddenCursor)
+        return self.last_inside
+
     # -- input -------------------------------------------------------------------------
     def _on_button(self, event_cb):
         ev = event_cb.getEvent()
@@ -203,21 +278,29 @@ class LayoutVertexTool:
         x, y = (int(c) for c in ev.getPosition())
         if ev.getState() == coin.SoButtonEvent.DOWN:
             self.grabbed = self.vertex_at(x, y)
-            if self.grabbed is not None:
+            self.grabbed_edge = self.edge_at(x, y) if self.grabbed is None else None
+            if self.grabbed is not None or self.grabbed_edge is not None:
                 event_cb.setHandled()
+                self.allowed, self.last_inside = self.regions_of_grab(), None
                 self._set_cursor(QtCore.Qt.ClosedHandCursor)
         elif ev.getState() == coin.SoButtonEvent.UP and self.grabbed is not None:
             event_cb.setHandled()
             vertex, self.grabbed = self.grabbed, None
-            point = self.pick(x, y)
+            point = self._drag_to(x, y)
             self._set_cursor(None)
             QtCore.QTimer.singleShot(0, lambda: self.drop(vertex, point))
+        elif ev.getState() == coin.SoButtonEvent.UP and self.grabbed_edge is not None:
+            event_cb.setHandled()
+            edge, self.grabbed_edge = self.grabbed_edge, None
+            point = self._drag_to(x, y)
+            self._set_cursor(None)
+            QtCore.QTimer.singleShot(0, lambda: self.drop_edge(edge, point))
 
     def _on_move(self, event_cb):
         x, y = (int(c) for c in event_cb.getEvent().getPosition())
-        if self.grabbed is not None:
+        if self.grabbed is not None or self.grabbed_edge is not None:
             event_cb.setHandled()
-            point = self.pick(x, y)
+            point = self._drag_to(x, y)
             if point is not None:
                 self.marker.set(point)
             return
@@ -238,20 +321,32 @@ class LayoutVertexTool:
         """Pin layout vertex ``vertex`` at surface point ``point`` (None: the
         release was off the part, nothing moves).  True if the design changed."""
         from . import layout_pins
+        return self._edit("vertex", vertex, point, layout_pins.move_vertex, ("not moved", "pinned at"))
+
+    def drop_edge(self, edge, point):
+        """Route layout edge ``edge`` through surface point ``point`` (None:
+        the release was off the part, nothing changes).  True if the design
+        changed."""
+        from . import layout_pins
+        return self._edit("edge", edge, point, layout_pins.route_edge, ("not re-routed", "routed through"))
+
+    def _edit(self, what, index, point, edit, words):
+        """Apply ``edit(layout, index, point)`` (a layout_pins function) and say what happened."""
+        failed, done = words
         self.marker.set(None)
         obj = self.obj()
         if obj is None or self.closed:
             return False
         if point is None:
-            self.last_error = "released off the part: vertex {} not moved".format(vertex + 1)
+            self.last_error = "released off the part or outside its region: {} {} {}".format(what, index + 1, failed)
             messages.warning(self.last_error)
             return False
         try:
-            layout_pins.move_vertex(obj, vertex, point)
+            edit(obj, index, point)
         except Exception as exc:
-            self.last_error = "vertex {} not moved: {}".format(vertex + 1, exc)
+            self.last_error = "{} {} {}: {}".format(what, index + 1, failed, exc)
             messages.error(self.last_error, dialog=False)
             return False
         self.last_error = None
-        messages.message("layout vertex {} pinned at ({:.4g}, {:.4g}, {:.4g})".format(vertex + 1, *point))
+        messages.message("layout {} {} {} ({:.4g}, {:.4g}, {:.4g})".format(what, index + 1, done, *point))
         return True

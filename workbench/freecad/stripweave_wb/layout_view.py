@@ -2,7 +2,8 @@
 mesh (a pastel per patch; red, crease, orange and yellow regions in their colours,
 §4.2), the layout's edges as dark lines, its vertices as dots (irregular
 ones larger, pinned ones, placed by hand (§7, layout_pins.py), as larger
-green squares with a diamond) and its defects as red crosses.
+green squares with a diamond, as are the points edges were routed through
+by hand) and its defects as red crosses.
 
 Display mode "Layout" (this overlay); the Shape (edges and vertices) is what
 selection and other workbenches see.  The tinted mesh needs the result kept
@@ -130,6 +131,8 @@ class LayoutOverlay:
         self.edges.set_polylines([tuple(p) for e in edges for p in e], [len(e) for e in edges])
         vertices = layout.get("vertices", [])
         pinned = [v["position"] for v in vertices if v.get("placement") == "pinned"]
+        # The points edges were routed through by hand (layout_pins.route_edge): pins too.
+        pinned += [e["through"] for e in layout.get("edges", []) if e.get("through") is not None]
         free = [v for v in vertices if v.get("placement") != "pinned"]
         regular = [v["position"] for v in free if v.get("valence") == 4 or v.get("boundary")]
         irregular = [v["position"] for v in free if not (v.get("valence") == 4 or v.get("boundary"))]
