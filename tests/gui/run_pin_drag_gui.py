@@ -25,7 +25,10 @@ tool.
 
 Last, a vertex dragged out of its octant into the next one, released there:
 the drag stops at its region, so the pin is the last point of its own
-octant the drag passed, and that octant's vertex is the one pinned.
+octant the drag passed, and that octant's vertex is the one pinned.  The
+tool's task panel lists that pin and the edge route; a real click on the
+pin's Remove button removes it (undo step "Remove layout pin"), one on Clear
+all the route, and a real click on Close ends the tool.
 """
 
 import json
@@ -230,8 +233,44 @@ def outside_phase(doc, view, layout, design):
           (pins, release_point))
     placed = [i for i, x in enumerate(layout_json(layout)["vertices"]) if x["placement"] == "pinned"]
     check("outside: the grabbed octant's vertex is the one pinned", placed == [octant_vertex(layout, signs)[0]], placed)
-    h.key("Escape")
-    h.wait_until(lambda: layout_tool.active_tool() is None, 5)
+    panel_phase(doc, layout, design, tool)
+
+
+def panel_phase(doc, layout, design, tool):
+    """The tool's task panel: the pin and the edge route in its table; a real click on the
+    pin's Remove button removes it (one undo step), one on Clear all the route; a real click
+    on Close ends the tool."""
+    from PySide import QtGui
+    from freecad.stripweave_wb import layout_tool
+    from freecad.stripweave_wb.layout_pins import pins_of, routes_of
+    h.wait_until(lambda: len(tool.panel.remove_buttons) == 2, 5)
+    rows = [(kind, i) for kind, i, _ in tool.panel.remove_buttons]
+    check("panel: two rows, the pin and the edge route", rows == [("pin", 0), ("route", 0)], rows)
+    h.wait_until(lambda: "6 patches" in tool.panel.state.text(), 10)   # the panel polls the Layout
+    check("panel: the layout's state", "6 patches, clean" in tool.panel.state.text(), tool.panel.state.text())
+    shot = os.path.join(WORKDIR, "layout_panel.png")
+    check("screenshot layout_panel.png", tool.panel.form.grab().save(shot), shot)
+    if rows != [("pin", 0), ("route", 0)]:
+        return
+    h.click_widget(tool.panel.remove_buttons[0][2])
+    h.wait_until(lambda: not pins_of(design), 10)
+    check("panel: Remove removed the pin alone, undo step 'Remove layout pin'",
+          pins_of(design) == [] and len(routes_of(design)) == 1
+          and (doc.UndoNames or [None])[0] == "Remove layout pin", (pins_of(design), doc.UndoNames[:2]))
+    h.wait_until(lambda: [(k, i) for k, i, _ in tool.panel.remove_buttons] == [("route", 0)], 5)
+    h.click_widget(tool.panel.clear_all)
+    h.wait_until(lambda: not routes_of(design), 10)
+    check("panel: Clear all removed the route, undo step 'Clear layout pins'",
+          routes_of(design) == [] and (doc.UndoNames or [None])[0] == "Clear layout pins", doc.UndoNames[:2])
+    h.wait_until(lambda: not tool.panel.remove_buttons, 5)
+    check("panel: the table empty again", not tool.panel.remove_buttons)
+    close = None
+    for box in tool.panel.form.window().findChildren(QtGui.QDialogButtonBox):
+        close = box.button(QtGui.QDialogButtonBox.Close) or close
+    if check("panel: a Close button", close is not None):
+        h.click_widget(close)
+        h.wait_until(lambda: layout_tool.active_tool() is None, 5)
+        check("panel: Close ended the tool", layout_tool.active_tool() is None)
 
 
 def scenario():

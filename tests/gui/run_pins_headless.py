@@ -5,7 +5,8 @@ second pin replaces the first: same region), the (-,-,-) vertex to P3 (a
 second pin); the edge from the (+,+,+) vertex to the (+,+,-) one is routed
 through T1, then T2 (the second route replaces the first: same edge);
 Clear removes pins and routes; undo restores them; both are in the
-exported design.json and survive save / reopen.  Writes JSON to
+exported design.json and survive save / reopen; in the reopened document
+the route is removed alone, and a pin it does not have is refused.  Writes JSON to
 $STRIPWEAVE_HEADLESS_RESULT and exits with os._exit."""
 
 import json
@@ -65,7 +66,8 @@ try:
     import FreeCAD as App
     import Part
     from freecad.stripweave_wb import design_model, layout_model, surface_model
-    from freecad.stripweave_wb.layout_pins import clear_pins, move_vertex, pins_of, route_edge, routes_of
+    from freecad.stripweave_wb.layout_pins import (clear_pins, move_vertex, pins_of, remove_pin, remove_route,
+                                                   route_edge, routes_of)
 
     doc = App.newDocument("PinsHeadless")
     doc.UndoMode = 1
@@ -124,6 +126,16 @@ try:
     design = [o for o in doc.Objects if design_model.is_design(o)][0]
     result["reopened_pins"] = pins_of(design)
     result["reopened_routes"] = routes_of(design)
+    layout = [o for o in doc.Objects if layout_model.is_layout(o)][0]
+    doc.UndoMode = 1
+    remove_route(layout, 0)
+    result["route_removed"] = {"routes": routes_of(design), "pins": pins_of(design),
+                               "undo": (doc.UndoNames or [None])[0]}
+    try:
+        remove_pin(layout, 5)
+        result["bad_pin"] = None
+    except Exception as exc:
+        result["bad_pin"] = "{}: {}".format(type(exc).__name__, exc)
 except Exception:
     result["error"] = traceback.format_exc()
 finally:

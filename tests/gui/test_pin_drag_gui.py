@@ -19,7 +19,7 @@ TIMEOUT = 400
 @pytest.fixture(scope="module")
 def gui_run(tmp_path_factory):
     run = run_scenario(SCRIPT, tmp_path_factory.mktemp("stripweave_pins"), TIMEOUT, tools=("xdotool",))
-    for name in ("pinned.png", "dragging.png", "routed.png", "route_dragging.png"):
+    for name in ("pinned.png", "dragging.png", "routed.png", "route_dragging.png", "layout_panel.png"):
         shot = run["tmp"] / name
         if shot.is_file():
             shutil.copyfile(shot, "/tmp/stripweave_" + name)

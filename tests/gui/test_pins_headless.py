@@ -92,3 +92,10 @@ def test_pins_persist_in_design_json_and_the_fcstd(run):
     assert run["reopened_pins"] == run["second"]["pins"]
     assert run["exported_routes"] == run["rerouted"]["routes"]
     assert run["reopened_routes"] == run["rerouted"]["routes"]
+
+
+def test_a_route_is_removed_alone_and_a_missing_pin_is_refused(run):
+    r = run["route_removed"]
+    assert r["routes"] == [] and r["pins"] == run["second"]["pins"]
+    assert r["undo"] == "Remove edge route"
+    assert run["bad_pin"].startswith("ValueError: StripWeave: design") and "no pin 6" in run["bad_pin"]

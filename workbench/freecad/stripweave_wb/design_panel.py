@@ -21,6 +21,7 @@ the tool (design_tool.py)."""
 from PySide import QtCore, QtGui
 
 from . import WORKBENCH_ICON
+from .tool_panel import ToolPanel
 
 HELP = ("Hover: the best strip. Ctrl+wheel: others. Click: add it. Drag: give its direction. "
         "Drag a strip: move it. Shift+click, Enter: several anchors. Esc: close.")
@@ -66,7 +67,7 @@ def _same_symmetry(a, b):
     return all(a.get(k) == b.get(k) for k in keys)
 
 
-class DesignPanel:
+class DesignPanel(ToolPanel):
     def __init__(self, tool, label):
         self.tool = tool
         self.form = QtGui.QWidget()
@@ -294,24 +295,9 @@ class DesignPanel:
         if strip is not None and anchor is not None:
             action(strip, anchor)
 
-    # -- Gui.Control protocol -----------------------------------------------------------
-    def getStandardButtons(self):
-        return int(QtGui.QDialogButtonBox.Close)
-
-    def reject(self):
-        self.tool.close(from_panel=True)
-        return True
-
-    def accept(self):
-        return self.reject()
-
     # -- filled in by the tool ------------------------------------------------------------
     def set_proposal(self, text):
         self.proposal.setText(text)
-
-    def set_status(self, text, error=False):
-        self.status.setStyleSheet("color: #c92a2a;" if error else "")
-        self.status.setText(text)
 
     def set_busy(self, busy):
         """No removals or anchor edits while a strip is being edited (it is

@@ -7,6 +7,8 @@ App side (works under ``freecadcmd``)::
     from freecad.stripweave_wb import layout_pins
     layout_pins.move_vertex(layout, k, (x, y, z))   # transaction "Move layout vertex"
     layout_pins.route_edge(layout, k, (x, y, z))    # transaction "Re-route layout edge"
+    layout_pins.remove_pin(layout, i)                # transaction "Remove layout pin"
+    layout_pins.remove_route(layout, i)              # transaction "Remove edge route"
     layout_pins.clear_pins(layout)                   # transaction "Clear layout pins" (and routes)
     layout_pins.pins_of(layout.Design)               # [[x, y, z], ...]
     layout_pins.routes_of(layout.Design)             # [{"through": p, "across": q}, ...]
@@ -35,6 +37,8 @@ from .design_model import transaction
 
 MOVE = "Move layout vertex"
 ROUTE = "Re-route layout edge"
+REMOVE_PIN = "Remove layout pin"
+REMOVE_ROUTE = "Remove edge route"
 CLEAR = "Clear layout pins"
 
 
@@ -136,6 +140,32 @@ def route_edge(layout_obj, edge, point):
     routes.append({"through": [float(c) for c in point],
                    "across": [float(c) for c in edges[int(edge)]["crossing_point"]]})
     _write_pins(design, pins_of(design), ROUTE, routes)
+    return routes
+
+
+def remove_pin(layout_obj, index):
+    """Remove the Design's pin ``index`` (undo step "Remove layout pin"):
+    its region's vertex goes back to its automatic place.  ValueError
+    (nothing changed) for a pin the Design does not have."""
+    design = layout_obj.Design
+    pins = pins_of(design)
+    if not 0 <= int(index) < len(pins):
+        raise ValueError("StripWeave: design '{}' has no pin {}".format(design.Label, int(index) + 1))
+    del pins[int(index)]
+    _write_pins(design, pins, REMOVE_PIN)
+    return pins
+
+
+def remove_route(layout_obj, index):
+    """Remove the Design's edge route ``index`` (undo step "Remove edge
+    route"): its edge is routed automatically again.  ValueError (nothing
+    changed) for a route the Design does not have."""
+    design = layout_obj.Design
+    routes = routes_of(design)
+    if not 0 <= int(index) < len(routes):
+        raise ValueError("StripWeave: design '{}' has no edge route {}".format(design.Label, int(index) + 1))
+    del routes[int(index)]
+    _write_pins(design, pins_of(design), REMOVE_ROUTE, routes)
     return routes
 
 

@@ -25,7 +25,9 @@ through a new point of its corridor, with the mouse.
   within its region;
 * presses elsewhere go on to the navigation style (rotate, pan);
 * preselection and selection are off in the view while the tool runs
-  (view_input.ViewCapture); Esc, or the command again, ends it.
+  (view_input.ViewCapture); Esc, the command again, or Close in its task
+  panel (layout_panel.py: the pins and edge routes with a Remove button
+  each, Clear all, the layout's state) ends it.
 
 Coin event callbacks never edit the document or add nodes (that would
 happen during a scene traversal): the edit runs from a zero-delay timer.
@@ -52,6 +54,7 @@ PICK_TOLERANCE_PX = 8
 # A vertex whose dot is under the cursor but farther than this fraction of
 # the layout's diagonal from the surface point there lies behind the part.
 HIDDEN_FRACTION = 0.05
+POLL_MS = 400   # the panel follows the Design and the Layout's recomputes
 
 _active = None
 
@@ -154,6 +157,11 @@ class LayoutVertexTool:
         self._filter = _EscFilter(self)
         self._capture = None       # ViewCapture while the tool runs
         self._cursor = None
+        from .layout_panel import LayoutPanel
+        self.panel = LayoutPanel(self, obj.Label)
+        self.timer = QtCore.QTimer()
+        self.timer.setInterval(POLL_MS)
+        self.timer.timeout.connect(self.refresh_panel)
 
     def obj(self):
         doc = App.listDocuments().get(self.doc_name)
@@ -164,21 +172,68 @@ class LayoutVertexTool:
         self._capture = ViewCapture(self.view, self.marker.root, (
             (coin.SoLocation2Event, self._on_move), (coin.SoMouseButtonEvent, self._on_button),
             (coin.SoKeyboardEvent, self._on_key)), self._filter)
+        if Gui.Control.activeDialog():
+            Gui.Control.closeDialog()
+        Gui.Control.showDialog(self.panel)
+        self.refresh_panel()
+        self.timer.start()
         messages.message("Edit layout vertices: drag a vertex of '{}' within its region to pin it there, "
                          "or an edge to route it through a point of its corridor; Esc ends".format(self.obj().Label))
 
-    def close(self):
-        """End the tool (idempotent)."""
+    def close(self, from_panel=False):
+        """End the tool (idempotent).  ``from_panel``: the task dialog is
+        closing itself (Close button), do not close it again."""
         global _active
         if self.closed:
             return
         self.closed = True
+        self.timer.stop()
         self._set_cursor(None)
         if self._capture is not None:
             self._capture.release()
             self._capture = None
+        if not from_panel and Gui.Control.activeDialog():
+            Gui.Control.closeDialog()
         if _active is self:
             _active = None
+
+    # -- the panel ----------------------------------------------------------------------
+    def refresh_panel(self):
+        from .layout_panel import layout_state
+        from .layout_pins import pins_of, routes_of
+        obj = self.obj()
+        if obj is None or self.closed:
+            return
+        try:
+            design = obj.Design
+            pins, routes = (pins_of(design), routes_of(design)) if design is not None else ([], [])
+        except Exception:   # a DesignJson that does not parse: the design's recompute says why
+            pins, routes = [], []
+        self.panel.refresh(pins, routes, layout_state(obj))
+
+    def remove(self, kind, index):
+        """The panel's Remove of pin or edge route ``index`` (``kind`` "pin" or "route")."""
+        from . import layout_pins
+        edit = layout_pins.remove_pin if kind == "pin" else layout_pins.remove_route
+        self._panel_edit(lambda obj: edit(obj, index), "{} {} removed".format(
+            "pin" if kind == "pin" else "edge route", index + 1))
+
+    def clear_all(self):
+        """The panel's Clear all: every pin and edge route of the Design."""
+        from . import layout_pins
+        self._panel_edit(layout_pins.clear_pins, "pins and edge routes cleared")
+
+    def _panel_edit(self, edit, done):
+        obj = self.obj()
+        if obj is None or self.closed:
+            return
+        try:
+            edit(obj)
+        except Exception as exc:
+            self.panel.set_status(str(exc), error=True)
+            return
+        self.panel.set_status(done)
+        self.refresh_panel()
 
     # -- picking ---------------------------------------------------------------------
     def pick(self, x, y):
@@ -340,13 +395,18 @@ class LayoutVertexTool:
         if point is None:
             self.last_error = "released off the part or outside its region: {} {} {}".format(what, index + 1, failed)
             messages.warning(self.last_error)
+            self.panel.set_status(self.last_error, error=True)
             return False
         try:
             edit(obj, index, point)
         except Exception as exc:
             self.last_error = "{} {} {}: {}".format(what, index + 1, failed, exc)
             messages.error(self.last_error, dialog=False)
+            self.panel.set_status(self.last_error, error=True)
             return False
         self.last_error = None
-        messages.message("layout {} {} {} ({:.4g}, {:.4g}, {:.4g})".format(what, index + 1, done, *point))
+        text = "layout {} {} {} ({:.4g}, {:.4g}, {:.4g})".format(what, index + 1, done, *point)
+        messages.message(text)
+        self.panel.set_status(text)
+        self.refresh_panel()
         return True
