@@ -6,7 +6,9 @@ second pin); the edge from the (+,+,+) vertex to the (+,+,-) one is routed
 through T1, then T2 (the second route replaces the first: same edge);
 Clear removes pins and routes; undo restores them; both are in the
 exported design.json and survive save / reopen; in the reopened document
-the route is removed alone, and a pin it does not have is refused.  Writes JSON to
+the route is removed alone, and a pin it does not have is refused.  On a
+cube, whose edges follow its creases, a route is kept in the design but the
+layout refuses it and says so in its Status.  Writes JSON to
 $STRIPWEAVE_HEADLESS_RESULT and exits with os._exit."""
 
 import json
@@ -136,6 +138,20 @@ try:
         result["bad_pin"] = None
     except Exception as exc:
         result["bad_pin"] = "{}: {}".format(type(exc).__name__, exc)
+    # A cube's edges follow its creases: a route of one is kept in the design but the
+    # layout refuses it, and its Status says why.
+    cube_doc = App.newDocument("RouteOnCrease")
+    box = cube_doc.addObject("Part::Feature", "Box")
+    box.Shape = Part.makeBox(10, 10, 10)
+    cube_sm = surface_model.create(box, target_triangles=TRIANGLES)
+    cube_doc.recompute()
+    cube_design = design_model.create(cube_sm, Design([[(5, 5, 10, 1, 0, 0)], [(5, 3, 0, 0, 1, 0)],
+                                                       [(3, 0, 5, 1, 0, 0)]]))
+    cube_doc.recompute()
+    cube_layout = layout_model.create(cube_design)
+    route_edge(cube_layout, 0, (5.0, 5.0, 10.0))
+    result["crease_route"] = {"routes": routes_of(cube_design), "status": cube_layout.Status,
+                              "clean": cube_layout.Clean}
 except Exception:
     result["error"] = traceback.format_exc()
 finally:

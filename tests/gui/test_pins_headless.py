@@ -99,3 +99,10 @@ def test_a_route_is_removed_alone_and_a_missing_pin_is_refused(run):
     assert r["routes"] == [] and r["pins"] == run["second"]["pins"]
     assert r["undo"] == "Remove edge route"
     assert run["bad_pin"].startswith("ValueError: StripWeave: design") and "no pin 6" in run["bad_pin"]
+
+
+def test_a_route_of_a_crease_edge_is_refused_and_the_status_says_why(run):
+    r = run["crease_route"]
+    assert len(r["routes"]) == 1
+    assert "edge route 1" in r["status"] and "crease" in r["status"]
+    assert r["clean"]

@@ -178,6 +178,7 @@ FitDeviation fit_deviation(const Surface& surface, const std::vector<BSplinePatc
   std::vector<Index> owner(nS, 0);
   {
     const SurfaceLocator locator(P.mesh);
+    watch.lap("patch_tree");
     parallel_for(blocks_of(nS), [&](Index b) {
       const size_t end = std::min(nS, size_t(b + 1) * kBlock);
       SurfacePoint3 c;

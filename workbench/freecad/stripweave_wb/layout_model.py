@@ -108,9 +108,16 @@ def status_text(layout):
         return "invalid: red regions are not discs (add strips that split them); regions: " + regions
     s = layout["summary"]
     irregular = ", ".join("{} of valence {}".format(n, v) for v, n in sorted(s["irregular_vertices"].items()))
-    return "{} patches, {}; irregular vertices: {}; corners {:.1f} deg off on average; regions: {}".format(
+    text = "{} patches, {}; irregular vertices: {}; corners {:.1f} deg off on average; regions: {}".format(
         s["patches"], "clean" if layout["clean"] else "NOT clean ({} defects)".format(
             sum(layout["defects"].values())), irregular or "none", s["corner_deviation_deg"]["mean"], regions)
+    refused = route_problems(layout)
+    return text + ("; " + "; ".join(refused) if refused else "")
+
+
+def route_problems(layout):
+    """The layout's problems with the design's hand routes (an edge route it could not take)."""
+    return [p for p in layout.get("problems", []) if p.startswith("edge route ")]
 
 
 class LayoutModel(DerivedObject):
@@ -159,6 +166,8 @@ class LayoutModel(DerivedObject):
         obj.Regions = ", ".join("{} {}".format(n, c) for c, n in sorted(region_counts(layout).items()))
         obj.Defects = defect_lines(layout)
         obj.Status = status_text(layout)
+        for problem in route_problems(layout):   # the user asked for it: say why it was not done
+            messages.warning("Layout '{}': {}".format(obj.Label, problem))
         obj.LayoutJson = json.dumps(layout)   # last: the view provider redraws on it
 
     def clear(self, obj, status):

@@ -107,6 +107,8 @@ def layout_state(layout_obj):
         return "layout: computing ..."
     if not layout_obj.Valid:
         return "layout: not valid (red regions: add strips)"
+    from .layout_model import route_problems
     defects = list(layout_obj.Defects or [])
     words = "clean" if layout_obj.Clean else "not clean: {}".format("; ".join(defects[:2]) or "see the report")
-    return "layout: {} patches, {}".format(layout_obj.PatchCount, words)
+    refused = route_problems(layout_obj.Proxy.layout(layout_obj))
+    return "layout: {} patches, {}".format(layout_obj.PatchCount, words) + "".join("\n" + p for p in refused)
