@@ -44,6 +44,23 @@ std::pair<Index, double> nearest(const std::vector<Index>& candidates, const std
   return best;
 }
 
+// How far an edge's mapped midpoint may lie from its image's. The layout
+// places vertices symmetrically (to the symmetry tolerance) but routes edges
+// over the mesh, whose triangles the symmetry does not map onto each other:
+// an edge and its image both join the same two image vertices and agree to
+// the mesh's resolution, a few solver edges, far more than the symmetry's
+// tolerance on a coarse mesh (a half-turn box at 8,000 triangles:
+// "edge 0 has no image"). Two different edges between the same two vertices
+// (around a handle) lie at least about their length apart, so a quarter of
+// the edge's length still tells them apart; the nearest wins, one to one.
+constexpr double kEdgeMatchShare = 0.25;  // of the edge's length
+
+double edge_match_tolerance(const std::vector<Vec3>& points, double tolerance) {
+  double length = 0;
+  for (size_t k = 1; k < points.size(); ++k) length += (points[k] - points[k - 1]).norm();
+  return std::max(tolerance, kEdgeMatchShare * length);
+}
+
 NetworkPairing failed(NetworkPairing p, const std::string& why) {
   p.paired = false;
   p.problem = why;
@@ -109,7 +126,7 @@ NetworkPairing pair_network(const PatchNetwork& net, const Symmetry& psi, double
     const auto it = between.find(std::minmax(a, b));
     const Vec3 mid = psi.map_point(polyline_midpoint(E.points));
     const auto [best, d] = nearest(it != between.end() ? it->second : std::vector<Index>{}, midpoints, mid);
-    if (best == kInvalid || d > tolerance)
+    if (best == kInvalid || d > edge_match_tolerance(E.points, tolerance))
       return failed(out, "layout edge " + std::to_string(e) + " has no image within the symmetry tolerance");
     if (edge_taken[best]) return failed(out, "two layout edges map onto edge " + std::to_string(best));
     edge_taken[best] = true;

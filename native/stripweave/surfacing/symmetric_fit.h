@@ -4,7 +4,9 @@
 // Pairing (pair_network): under a symmetry psi every layout vertex, edge and
 // patch has an image: the vertex nearest psi(x) (within `tolerance`, model
 // units, one-to-one), the edge between the images of its ends whose
-// arc-length midpoint lies nearest the mapped midpoint (within `tolerance`;
+// arc-length midpoint lies nearest the mapped midpoint (within `tolerance`,
+// or a quarter of the edge's length if more: edges are routed over the
+// mesh, which the symmetry does not map onto itself; one-to-one;
 // `reversed` when psi(v0) is the image's v1), the patch whose four edges are
 // the images of its four. The patch's sides map to the image's sides by a
 // symmetry of the square: for a rotation (orientation kept) side s goes to
