@@ -448,6 +448,23 @@ def test_an_edge_on_a_crease_keeps_it_when_routed_by_hand(cube_layout):
     assert L["clean"] and L["crease_conforming"]
 
 
+def test_the_main_job_keeps_a_designs_edge_routes(tmp_path):
+    """weave with a design that routes an edge by hand: layout.json's edge goes through the
+    point, design.json keeps the route, and the refit fits the layout the route gave."""
+    target = 5 * np.array([0.9, 0.15, 0.35]) / np.linalg.norm([0.9, 0.15, 0.35])
+    route = {"through": list(map(float, target)), "across": [3.735, 3.324, 0.0]}
+    surface = sw.from_shape(sphere(5), target_triangles=8000)
+    sw.weave(surface, design=Design(GREAT_CIRCLES, edge_routes=[route]), auto=False, out=str(tmp_path), step=True)
+    design = json.loads((tmp_path / "design.json").read_text())
+    layout = json.loads((tmp_path / "layout.json").read_text())
+    report = json.loads((tmp_path / "report.json").read_text())
+    assert design["edge_routes"] == [route]
+    through = [e["through"] for e in layout["edges"] if e["through"] is not None]
+    edge = math.sqrt(4 * math.pi * 25 / 8000 * 4 / math.sqrt(3))
+    assert len(through) == 1 and np.linalg.norm(np.asarray(through[0]) - target) <= edge
+    assert report["valid"] and layout["clean"] and report["fit"]["valid_shell"]
+
+
 def test_edge_routes_round_trip_through_design_json_and_bad_ones_are_named(tmp_path):
     route = {"through": [1.0, 2.0, 3.0], "across": [4.0, 5.0, 6.0]}
     d = Design(GREAT_CIRCLES, edge_routes=[route])
