@@ -19,6 +19,13 @@ def mirrored_box(shift=0.0):
     return slab.fuse([right, left]).removeSplitter()
 
 
+def turned_box():
+    """The slab of mirrored_box with its bosses a half turn about z apart (no mirror plane)."""
+    slab = Part.makeBox(40, 20, 8, Vector(-20, -10, 0))
+    bosses = [Part.makeBox(6, 4, 4, Vector(7, 1, 8)), Part.makeBox(6, 4, 4, Vector(-13, -5, 8))]
+    return slab.fuse(bosses).removeSplitter()
+
+
 def box(size=10.0):
     return Part.makeBox(size, size, size)
 

@@ -12,16 +12,14 @@ import json
 import numpy as np
 import pytest
 
-import FreeCAD  # noqa: F401
-import Part
-from FreeCAD import Vector
+import FreeCAD  # noqa: F401  (before Part, which models imports)
 
 import stripweave as sw
 from stripweave.design import Design
 from stripweave.strips import DesignSession
 from stripweave.symmetry import symmetric_surface
 
-from models import mirrored_box
+from models import mirrored_box, turned_box
 from test_symmetric_fit import MIRROR_X, ellipsoid, principal_ellipses
 
 
@@ -85,13 +83,6 @@ def rotate(sym, points, k=1):
     p = np.asarray(points, dtype=float) - np.asarray(sym["point"], dtype=float)
     turned = p * c + np.cross(axis, p) * s + np.outer(p @ axis, axis) * (1.0 - c)
     return turned + np.asarray(sym["point"], dtype=float)
-
-
-def turned_box():
-    """The slab of mirrored_box with its bosses a half turn about z apart (no mirror plane)."""
-    slab = Part.makeBox(40, 20, 8, Vector(-20, -10, 0))
-    bosses = [Part.makeBox(6, 4, 4, Vector(7, 1, 8)), Part.makeBox(6, 4, 4, Vector(-13, -5, 8))]
-    return slab.fuse(bosses).removeSplitter()
 
 
 def test_a_rotation_maps_the_vertex_set_onto_itself_and_the_refit_pairs_it(tmp_path):

@@ -1,8 +1,12 @@
 """GUI test of symmetric design: runs tests/gui/run_symmetry_gui.py in FreeCAD's GUI under
 xvfb with real input (xdotool) and asserts on its JSON result: the detected mirror plane is
-ticked and drawn, a click adds a strip and its mirror image, None turns symmetry off.
-The screenshot stays in pytest's tmp folder (symmetry.png).  Takes ~1 min."""
+ticked and drawn, a click adds a strip and its mirror image, None turns symmetry off; then on
+a slab whose bosses are a half turn apart, the detected rotation is ticked and its axis drawn,
+and a click adds a strip and its half-turn image.  The screenshots stay in pytest's tmp folder
+(symmetry.png, rotation.png; rotation.png is also copied to /tmp/stripweave_rotation.png).
+Takes ~1.5 min."""
 
+import shutil
 from pathlib import Path
 
 import pytest
@@ -16,8 +20,11 @@ TIMEOUT = 300
 @pytest.fixture(scope="module")
 def gui_run(tmp_path_factory):
     tmp = tmp_path_factory.mktemp("stripweave_symmetry_gui")
-    return run_scenario(SCRIPT, tmp, TIMEOUT, {"STRIPWEAVE_GUI_SCREENSHOT": str(tmp / "symmetry.png")},
-                        tools=("xdotool",))
+    run = run_scenario(SCRIPT, tmp, TIMEOUT, {"STRIPWEAVE_GUI_SCREENSHOT": str(tmp / "symmetry.png")},
+                       tools=("xdotool",))
+    if (tmp / "rotation.png").is_file():
+        shutil.copyfile(tmp / "rotation.png", "/tmp/stripweave_rotation.png")
+    return run
 
 
 def test_scenario_passes(gui_run):
@@ -31,3 +38,8 @@ def test_strip_and_its_mirror_image(gui_run):
 
 def test_screenshot_saved(gui_run):
     assert (gui_run["tmp"] / "symmetry.png").stat().st_size > 5000
+
+
+def test_strip_and_its_half_turn_image(gui_run):
+    info = gui_run["result"]["info"]
+    assert info["rotation_error"] <= 2 * info["rotation_edge"] < 0.05 * info["rotation_diagonal"]
