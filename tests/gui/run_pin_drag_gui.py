@@ -42,6 +42,7 @@ import numpy as np  # noqa: E402
 
 import FreeCAD as App  # noqa: E402
 import FreeCADGui as Gui  # noqa: E402
+from PySide import QtCore  # noqa: E402
 
 import gui_harness as h  # noqa: E402
 from gui_harness import check  # noqa: E402
@@ -144,6 +145,9 @@ def route_phase(doc, view, layout, design, tool):
     h.result["info"].update({"edge": k, "press": start, "release": end, "target": target,
                              "target_off_edge_before": distance_to_points(edge_before["points"], target)})
     h.mouse_move(view, *start)
+    h.pump(0.2)
+    cursor = h.viewport_widget().cursor().shape()
+    check("route: an open hand over the edge before the press", cursor == QtCore.Qt.OpenHandCursor, cursor)
     h.xdotool("mousedown", 1)
     h.drag_steps(view, start, end, 6)
     check("drag: the edge grabbed", tool.grabbed_edge == k and tool.grabbed is None, (tool.grabbed_edge, tool.grabbed))

@@ -4,7 +4,7 @@ through a new point of its corridor, with the mouse.
 
 * a left press within PICK_TOLERANCE_PX of a layout vertex's dot (on the
   side of the part facing the viewer) grabs it (closed-hand cursor; an open
-  hand over a vertex shows that a press would grab it);
+  hand over a vertex or an edge shows that a press would grab it);
 * dragging shows a green square (a pinned vertex's dot) at the point of the part under the
   cursor while that point lies in the vertex's region (paper §7: a vertex is dragged *within*
   its region); outside it the square stays at the last point inside and the cursor shows that
@@ -359,7 +359,8 @@ class LayoutVertexTool:
             if point is not None:
                 self.marker.set(point)
             return
-        self._set_cursor(QtCore.Qt.OpenHandCursor if self.vertex_at(x, y) is not None else None)
+        grabbable = self.vertex_at(x, y) is not None or self.edge_at(x, y) is not None
+        self._set_cursor(QtCore.Qt.OpenHandCursor if grabbable else None)
 
     def _on_key(self, event_cb):
         if coin.SoKeyboardEvent.isKeyPressEvent(event_cb.getEvent(), coin.SoKeyboardEvent.ESCAPE):
