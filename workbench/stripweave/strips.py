@@ -46,9 +46,13 @@ class DesignSession:
         """Hand the design's pins, edge routes and symmetries to the layout: the layout's alone
         (nothing to derive), so the regions' vertices and edges follow them without recomputing
         the strips."""
+        self.apply_hand_placed()
+        self.native.layout_symmetries = list(self.design.symmetry or [])
+
+    def apply_hand_placed(self):
+        """Hand the design's pins and edge routes (paper §7, manual) to the layout."""
         self.native.vertex_pins = self.design.pins
         self.native.edge_routes = [(r["through"], r["across"]) for r in self.design.edge_routes]
-        self.native.layout_symmetries = list(self.design.symmetry or [])
 
     def add_strip(self, anchors):
         """Append a strip; on failure (an InputError, or a loop search cancelled or past

@@ -50,12 +50,10 @@ def compute(ds, params=None, task=None):
         task.report(0.1, "regions and primal layout")
     # Pins are not part of the derived state's key (they shape the layout only):
     # the session may hold older ones, so the layout sets those it is computed for.
-    pins = [list(map(float, p)) for p in (params or {}).get("pins", [])]
-    ds.design.pins = pins
+    ds.design.pins = [list(map(float, p)) for p in (params or {}).get("pins", [])]
     ds.design.edge_routes = [{k: list(map(float, r[k])) for k in ("through", "across")}
                              for r in (params or {}).get("edge_routes", [])]
-    ds.native.vertex_pins = pins
-    ds.native.edge_routes = [(r["through"], r["across"]) for r in ds.design.edge_routes]
+    ds.apply_hand_placed()
     raw = ds.native.layout(True)
     data = layout_json(raw)
     colours = np.array([r["colour"] for r in raw["regions"]] + ["none"])

@@ -98,8 +98,9 @@ class LayoutPanel(ToolPanel):
         self.clear_all.setEnabled(bool(rows))
 
 
-def layout_state(layout_obj):
-    """One line on a Layout object: valid, clean, patches, defects."""
+def layout_state(layout_obj, layout=None):
+    """One line on a Layout object: valid, clean, patches, defects, and the
+    hand routes its layout.json (``layout``, parsed here if not given) refused."""
     if layout_obj is None:
         return ""
     status = getattr(layout_obj, "Status", "")
@@ -110,5 +111,5 @@ def layout_state(layout_obj):
     from .layout_model import route_problems
     defects = list(layout_obj.Defects or [])
     words = "clean" if layout_obj.Clean else "not clean: {}".format("; ".join(defects[:2]) or "see the report")
-    refused = route_problems(layout_obj.Proxy.layout(layout_obj))
+    refused = route_problems(layout if layout is not None else layout_obj.Proxy.layout(layout_obj))
     return "layout: {} patches, {}".format(layout_obj.PatchCount, words) + "".join("\n" + p for p in refused)

@@ -73,13 +73,14 @@ def _write_pins(design, pins, name, routes=None):
         doc.recompute()
 
 
-def region_of_point(mesh, point):
+def region_of_point(mesh, point, centroids=None):
     """The region (layout.json index) of the solver triangle nearest
     ``point`` (centroid distance: pins lie on the surface, so the nearest
     centroid is the triangle under them up to a solver edge), or -1 on a
-    loop.  ``mesh``: LayoutModel.mesh (with "region")."""
-    v, t = mesh["vertices"], mesh["triangles"]
-    centroids = v[t].mean(axis=1)
+    loop.  ``mesh``: LayoutModel.mesh (with "region"); ``centroids``: its
+    triangles' centroids if the caller keeps them (a drag asks per move)."""
+    if centroids is None:
+        centroids = mesh["vertices"][mesh["triangles"]].mean(axis=1)
     i = int(np.argmin(np.linalg.norm(centroids - np.asarray(point, dtype=float), axis=1)))
     return int(mesh["region"][i])
 

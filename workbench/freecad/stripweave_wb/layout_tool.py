@@ -153,6 +153,10 @@ class LayoutVertexTool:
         self.grabbed_edge = None   # the edge index while one is dragged
         self.allowed = None        # while dragging: the regions the point may lie in (None: any)
         self.last_inside = None    # the last point of the drag inside them
+        # layout.json parsed once per LayoutJson, not per mouse move: (text, layout, per edge
+        # its points, the edges' diagonal), and the region mesh's triangle centroids
+        self._parsed = (None, {}, [], 1.0)
+        self._centroids = (None, None)
         self.last_error = None
         self._filter = _EscFilter(self)
         self._capture = None       # ViewCapture while the tool runs
@@ -200,16 +204,15 @@ class LayoutVertexTool:
     # -- the panel ----------------------------------------------------------------------
     def refresh_panel(self):
         from .layout_panel import layout_state
-        from .layout_pins import pins_of, routes_of
         obj = self.obj()
         if obj is None or self.closed:
             return
-        try:
-            design = obj.Design
-            pins, routes = (pins_of(design), routes_of(design)) if design is not None else ([], [])
+        try:   # the Design's JSON parsed once per poll
+            design = obj.Design.Proxy.design(obj.Design) if obj.Design is not None else None
+            pins, routes = (design.pins, design.edge_routes) if design is not None else ([], [])
         except Exception:   # a DesignJson that does not parse: the design's recompute says why
             pins, routes = [], []
-        self.panel.refresh(pins, routes, layout_state(obj))
+        self.panel.refresh(pins, routes, layout_state(obj, self.layout()))
 
     def remove(self, kind, index):
         """The panel's Remove of pin or edge route ``index`` (``kind`` "pin" or "route")."""
@@ -235,6 +238,31 @@ class LayoutVertexTool:
         self.panel.set_status(done)
         self.refresh_panel()
 
+    # -- the layout, parsed once per recompute ----------------------------------------
+    def layout(self):
+        """The Layout's layout.json ({} without one), parsed again only when it changed."""
+        obj = self.obj()
+        text = obj.LayoutJson if obj is not None else ""
+        if text != self._parsed[0]:
+            layout = obj.Proxy.layout(obj) if obj is not None else {}
+            points = [np.asarray(e["points"], dtype=float) for e in layout.get("edges", [])]
+            everything = np.concatenate(points) if points else np.zeros((1, 3))
+            self._parsed = (text, layout, points, float(np.linalg.norm(np.ptp(everything, axis=0))) or 1.0)
+        return self._parsed[1]
+
+    def region_at(self, point):
+        """The region (layout.json index) under surface point ``point``
+        (layout_pins.region_of_point with the mesh's centroids kept), None
+        without the region mesh in memory."""
+        from .layout_pins import region_of_point
+        obj = self.obj()
+        mesh = obj.Proxy.mesh(obj) if obj is not None else None
+        if mesh is None or "region" not in mesh:
+            return None
+        if self._centroids[0] is not mesh:
+            self._centroids = (mesh, mesh["vertices"][mesh["triangles"]].mean(axis=1))
+        return region_of_point(mesh, point, self._centroids[1])
+
     # -- picking ---------------------------------------------------------------------
     def pick(self, x, y):
         """The point of the part under Coin position (x, y), or None."""
@@ -248,8 +276,7 @@ class LayoutVertexTool:
         """The index of the layout vertex whose dot is within
         PICK_TOLERANCE_PX of Coin position (x, y) and faces the viewer (the
         nearest to the surface point there), or None."""
-        obj = self.obj()
-        vertices = obj.Proxy.layout(obj).get("vertices", []) if obj is not None else []
+        vertices = self.layout().get("vertices", [])
         if not vertices:
             return None
         positions = np.asarray([v["position"] for v in vertices], dtype=float)
@@ -269,16 +296,12 @@ class LayoutVertexTool:
         """The index of the layout edge whose line passes within
         PICK_TOLERANCE_PX of Coin position (x, y) on the side of the part
         facing the viewer (of several, the one nearest on screen), or None."""
-        obj = self.obj()
-        edges = obj.Proxy.layout(obj).get("edges", []) if obj is not None else []
-        if not edges:
+        if not self.layout().get("edges"):
             return None
         point = self.pick(x, y)
         if point is None:
             return None
-        points = [np.asarray(e["points"], dtype=float) for e in edges]
-        everything = np.concatenate(points)
-        diagonal = float(np.linalg.norm(np.ptp(everything, axis=0))) or 1.0
+        _, _, points, diagonal = self._parsed
         best, best_px = None, PICK_TOLERANCE_PX
         for k, pts in enumerate(points):
             # Only the edge's points near the surface point under the cursor can be
@@ -297,22 +320,20 @@ class LayoutVertexTool:
         dragged in: the vertex's region, the edge's two; None when the region
         mesh is not in memory (no restriction: the layout snaps the point)."""
         obj = self.obj()
-        layout = obj.Proxy.layout(obj) if obj is not None else {}
         mesh = obj.Proxy.mesh(obj) if obj is not None else None
         if mesh is None or "region" not in mesh:
             return None
+        layout = self.layout()
         vertices = layout.get("vertices", [])
         ends = [self.grabbed] if self.grabbed is not None else layout["edges"][self.grabbed_edge]["vertices"]
         return {int(vertices[v]["region"]) for v in ends}
 
     def inside(self, point):
         """Whether surface point ``point`` lies in the grab's regions."""
-        from .layout_pins import region_of_point
         if self.allowed is None:
             return True
-        obj = self.obj()
-        mesh = obj.Proxy.mesh(obj) if obj is not None else None
-        return mesh is not None and region_of_point(mesh, point) in self.allowed
+        region = self.region_at(point)
+        return region is not None and region in self.allowed
 
     def _drag_to(self, x, y):
         """The point of the drag at (x, y): the part's point there inside the
