@@ -185,6 +185,18 @@ def key(R=10.0, r=2.0, shaft=30.0, shaft_r=1.5):
     return ring.fuse(rod).removeSplitter()
 
 
+def bitted_key(R=10.0, r=2.0, shaft=30.0, shaft_r=1.5):
+    """The key (key()) with what makes a real one sharp: a box bit at the shaft's end with
+    three slots cut across it, and a collar ringing the shaft halfway, so creases ring the
+    shaft and run along the bit."""
+    bit = Part.makeBox(4, 2, 5, Vector(R + shaft - 6, -1, 0))
+    for i in range(3):
+        bit = bit.cut(Part.makeBox(0.8, 3, 2.5, Vector(R + shaft - 5.5 + 1.3 * i, -1.5, 2.6)))
+    shape = key(R, r, shaft, shaft_r).fuse(bit).removeSplitter()
+    collar = Part.makeCylinder(shaft_r + 0.7, 1.5, Vector(R + shaft / 3, 0, 0), Vector(1, 0, 0))
+    return shape.fuse(collar).removeSplitter()
+
+
 def bored_plate(bores=4, pitch=12.0, radius=3.0, thickness=4.0, width=12.0):
     """A plate `bores` pitches long with one through bore per pitch, in a row: genus `bores`."""
     plate = Part.makeBox(bores * pitch, width, thickness)

@@ -19,7 +19,7 @@ import Part
 from FreeCAD import Vector
 
 import stripweave as sw
-from models import bored_plate, box, bumpy_sphere_mesh, filleted_box, key, open_cylinder_shell, torus, torus_knot_tube
+from models import bitted_key, bored_plate, box, bumpy_sphere_mesh, filleted_box, key, open_cylinder_shell, torus, torus_knot_tube
 from stripweave._native import native
 from stripweave.design import Design
 from stripweave.layout import compute_layout
@@ -684,7 +684,7 @@ def test_an_area_no_single_strip_covers_gets_a_pair():
     loop and then the red phase's loop that crosses the cap, and keeps both: valid, more
     crossings, the user's strips first and unchanged."""
     import time
-    from stripweave.weave import _coverage_pair, _Weaver, score
+    from stripweave.weave import _coverage_pair, _FitRescue, _Weaver, score
     ds = DesignSession(sw.from_shape(key(), target_triangles=8000),
                        Design([[(-12, 0, 0, 0, 0, 1)], [(0, 10, 2, 1, 0, 0)]]))
     given = [s.anchors[0].to_list() for s in ds.design.strips]
@@ -696,7 +696,7 @@ def test_an_area_no_single_strip_covers_gets_a_pair():
     assert alone["colours"]["red"] == 1
     start = time.perf_counter()
     pair = _coverage_pair(w, ds, w.options, a, (score(alone), ring.cost, ring, [25, 0, 1.5], alone),
-                          lambda: time.perf_counter() - start)
+                          lambda: time.perf_counter() - start, _FitRescue(w, a))
     assert pair is not None
     (first, second), after = pair
     assert (first["strip"], second["strip"]) == (2, 3) and second["colour"] == "red"
@@ -704,6 +704,23 @@ def test_an_area_no_single_strip_covers_gets_a_pair():
     assert after["uncovered"]["area"] < a["uncovered"]["area"]
     assert [s.anchors[0].to_list() for s in ds.design.strips[:2]] == given
     assert ds.native.strip_count == 4
+
+
+def test_a_sharp_key_is_not_left_one_patch():
+    """A key with a bit and a collar (creases ringing its shaft): its red phase puts both loops
+    on the ring, and the layout is one non-quad patch over the whole part (the shared trj5
+    key: no STEP at all). The loop along the shaft, alone or after one around it, crosses
+    every crease ringing the shaft, so it raises the crease excess, which ranks before
+    coverage in score(); while most of the part lies in no quad patch the weave takes it
+    anyway if more of the part lies in quad patches after it (_QuadRescue), and the crease
+    phase then has crossings to work from."""
+    from stripweave.layout import compute_layout
+    ds = DesignSession(sw.from_shape(bitted_key(), target_triangles=15000))
+    auto_weave(ds, WeaveOptions())
+    layout = compute_layout(ds)
+    assert layout["valid"] and len(layout["patches"]) >= 10 and len(ds.design.strips) >= 4
+    quads = sum(p["area"] for p in layout["patches"] if p["quad"])
+    assert quads > 0.5 * sum(p["area"] for p in layout["patches"])
 
 
 def test_cancel_event_stops_weaving_at_its_next_step(cube):
@@ -1024,6 +1041,12 @@ class _ScriptedWeave:
 
     coverage_spent = (0.0, 0.0)
 
+    def spent_now(self):
+        return self.work, 0.0
+
+    def book_coverage(self, since):
+        pass
+
     def coverage_allowance(self):
         return True
 
@@ -1050,6 +1073,27 @@ def test_open_stretch_strips_have_a_budget_of_their_own(cube):
     w.spend("query", 60.0)
     w.coverage_spent = (110.0, 0.0)
     assert w.quality_work(elapsed)[0] == pytest.approx(20.0) and not w.coverage_allowance()
+
+
+def test_the_fit_rescue_measures_on_the_coverage_account(cube):
+    """_FitRescue's layouts (the fittable area before a strip and after it) cost work, booked
+    to the COVERAGE account: where the rescue takes nothing, the crease, colour and refining
+    phases have the budget they had without it. It allows a proposal only while most of the
+    part lies in no quad patch, and never one that leaves the design less valid."""
+    from stripweave.weave import _FitRescue, _Weaver
+    w = _Weaver(DesignSession(cube, Design()), WeaveOptions())
+    def elapsed():
+        return 0.0
+    w.became_valid(elapsed)
+    a = w.assess()
+    before, spent = w.quality_work(elapsed)[0], w.work
+    rescue = _FitRescue(w, a)
+    assert rescue.allows(score(a))            # no strip: no patch, none of the part in a quad
+    assert rescue.area == 0.0
+    assert w.work > spent and w.quality_work(elapsed)[0] == pytest.approx(before)
+    worse = list(score(a))
+    worse[1] += 1                              # one more region no disc
+    assert not rescue.allows(tuple(worse))
 
 
 def test_red_seed_points_are_asked_again_once_the_other_colours_are_done():

@@ -25,8 +25,11 @@ seed points (a cube's first seed point is a corner, and a belt through a corner 
 180-degree patch corner). Where most of the part is an area no strip covers and every
 loop proposed there leaves a red region (a key whose strips lie on its ring: a loop around
 the shaft cuts off its end), that loop is added with the red phase's loop that crosses the
-region it leaves, both or neither (_coverage_pair). Why orange and yellow only at valence
-2 or 6+: on scans every strip brings new field singularities, and chasing every coloured
+region it leaves, both or neither (_coverage_pair); while most of the part lies in no patch
+the refit takes (a quad), a strip or pair there may raise the crease excess if it brings more
+of the part into such patches (_FitRescue: a loop along a shaft crosses every crease ringing
+it, and a key's first two loops left one patch, no quad, over the whole part). Why orange
+and yellow only at valence 2 or 6+: on scans every strip brings new field singularities, and chasing every coloured
 region left the rocker-arm with 4 valence-2 and 3 valence-6 vertices (27 degrees mean
 corner deviation; 19.9 without), while a cube needs its third belt to split the valence-2
 lenses around pairs of corners. When no seed helps any more (or colour_share of the budget
@@ -445,6 +448,16 @@ class _Weaver:
         phase, and parting four of them took the rest of the budget: 14 patches, against 35."""
         work, seconds = self.valid_at or (0.0, 0.0)
         return self.work - work - self.coverage_spent[0], elapsed() - seconds - self.coverage_spent[1]
+
+    def book_coverage(self, since):
+        """Move what was spent since `since` (a mark from spent_now) to the COVERAGE account
+        (quality_work)."""
+        work, seconds = self.spent_now()
+        self.coverage_spent = (self.coverage_spent[0] + work - since[0], self.coverage_spent[1] + seconds - since[1])
+
+    def spent_now(self):
+        """(work units, a clock in seconds) now: a mark for book_coverage."""
+        return self.work, time.perf_counter()
 
     def coverage_allowance(self):
         """Whether a valid design's COVERAGE strips may go on: one budget (and time limit) of
@@ -1070,17 +1083,19 @@ def _record(ds, result, entry):
     result.log.append(entry)
 
 
-def _coverage_pair(w, ds, options, a, candidate, elapsed):
+def _coverage_pair(w, ds, options, a, candidate, elapsed, rescue):
     """Cover an area no single strip can: the loop proposed there, then the loop that makes
     the red region it leaves valid again (the red phase's choice: every seed point, ranked
     alternatives). On a part whose strips all lie on one handle (a key: two loops around its
     bow), every loop around the shaft cuts off a cap no loop crosses, a red region, and the
     layout stays one patch over the whole part; the cap's crossing loop runs along the
     shaft. Both are kept if the design ends valid with more crossings, less uncovered area
-    and colours no worse (score), else both are removed. Returns ([the two log entries],
-    the assessment after them), or None."""
+    and colours no worse (score), or with more of the part in patches the refit takes, at a
+    cost to the creases and colours only (`rescue`, _FitRescue), else both are removed.
+    Returns ([the two log entries], the assessment after them), or None."""
     current = score(a)
     _, cost, loop, point, _ = candidate
+    rescue.measure()
     first = w.add(loop, point)
     if first is None:
         return None
@@ -1095,8 +1110,9 @@ def _coverage_pair(w, ds, options, a, candidate, elapsed):
             if second is None:
                 continue
             after = w.assess()
-            if after["colours"]["red"] == 0 and score(after) <= current and after["crossings"] > a["crossings"] \
-                    and after["uncovered"]["area"] < a["uncovered"]["area"]:
+            if after["colours"]["red"] == 0 and after["crossings"] > a["crossings"] \
+                    and after["uncovered"]["area"] < a["uncovered"]["area"] \
+                    and (score(after) <= current or rescue.gained(after)):
                 _say(options, f"  covered by a pair: strips {first + 1} and {second + 1}")
                 scores = {"score_before": list(current), "score_after": list(score(after))}
                 return [_entry(ds, first, "uncovered area (with the next strip)", -1, "uncovered", point, cost,
@@ -1105,6 +1121,74 @@ def _coverage_pair(w, ds, options, a, candidate, elapsed):
             w.remove(second)
     w.remove(first)
     return None
+
+
+def _mostly_uncovered(a):
+    """Whether most of the part lies in one area no strip covers (over half the surface)."""
+    u = a["uncovered"]
+    return u["largest_area"] > 0.5 * u["surface_area"]
+
+
+def _fittable_area(layout):
+    """The area of a layout's patches the refit takes: those with four corners (a patch with
+    more or fewer gets no NURBS patch, surfacing.py). A patch over a crease counts: the refit
+    fits it, if not within tolerance, and the crease phase can split it; counted out, the
+    first loop along a key's shaft, whose patches all hold a crease ringing the shaft, gained
+    nothing, and the key stayed one patch."""
+    if not layout["valid"]:
+        return 0.0
+    return sum(p["area"] for p in layout["patches"] if p.get("quad", False))
+
+
+class _FitRescue:
+    """Most of the part in no patch the refit takes (_fittable_area): then a strip (or
+    _coverage_pair's pair) that brings more of it into such patches is kept at any cost to the
+    creases and colours, as long as the design stays valid with no more patchless discs
+    (score's first three terms).
+
+    Why: score() ranks the crease excess before coverage, a proxy that every separating loop
+    lowers. A loop along a shaft crosses every crease ringing it, and each crossing is an exit
+    of its two regions until loops around the shaft part them, so the excess can only rise
+    with it (a key with a bit and a collar: 60 to 98), while its patches are the first the
+    refit takes. Held to the whole score, the key stayed one non-quad patch over the whole
+    part, and its STEP had nothing in it.
+
+    Asked only where no seed helped by the score (the uncovered-area seed, last in order,
+    and the pair after it). What it spends (a layout before, one after each strip it judges,
+    the strips it tries) is booked to the COVERAGE account (_Weaver.book_coverage), so that
+    where it takes nothing the other phases' budget is what it was."""
+
+    def __init__(self, w, a):
+        self.w, self.before = w, score(a)
+        self.surface_area = a["uncovered"]["surface_area"]
+        self.area = None     # fittable area of the design as it was (measure)
+
+    def measure(self):
+        """Measure the design as it is now, before a strip is added (once)."""
+        if self.area is None:
+            mark = self.w.spent_now()
+            self.area = _fittable_area(self.w.layout())
+            self.w.book_coverage(mark)
+
+    def allows(self, s):
+        """Whether a proposal's (predicted) score may be kept under the rescue: validity and
+        patchless discs no worse, and the design as it was mostly in no fittable patch. Asked
+        before the proposal is added (measure)."""
+        if s[:3] > self.before[:3]:
+            return False
+        self.measure()
+        return self.area < 0.5 * self.surface_area
+
+    def gained(self, after):
+        """Whether the design now in the weaver (assessed: after) is allowed and has more of
+        the part in fittable patches than the design measured before the strip (none
+        measured: the rescue was not asked for it, and does not judge it)."""
+        if self.area is None or not self.allows(score(after)):
+            return False
+        mark = self.w.spent_now()
+        gain = _fittable_area(self.w.layout()) > self.area
+        self.w.book_coverage(mark)
+        return gain
 
 
 def _largest(ds, colour, limit):
@@ -1289,7 +1373,8 @@ def _weave(w, ds, options, start=None):
         added = None
         tried_real = False
         splitting = []        # uncovered area: proposals that would leave a red region
-        spent_before = (w.work, elapsed())   # what this seed costs (coverage_spent)
+        rescue = _FitRescue(w, a) if colour == "uncovered" and valid else None
+        spent_before = w.spent_now()   # what this seed costs (coverage_spent)
         # Ranked alternatives (slow: a second search per rank) and both families of loops only
         # where validity or coverage is at stake (a region's second stretch lies in no patch).
         for alternatives in ((1, options.alternatives) if colour in ("red",) + COVERAGE else (1,)):
@@ -1302,10 +1387,13 @@ def _weave(w, ds, options, start=None):
                 splitting = [c for c in found if c[0][:2] > current[:2]]
             for s, cost, loop, point, predicted in found:
                 improves = s < current
+                by_rescue = False     # tried only under the rescue: its work is coverage work
                 if colour == "red" and not improves and s[:2] <= current[:2] and stalls < 3:
                     improves = True   # a handle can take two loops to cut (a torus: meridian, then equator)
                 if colour == "uncovered":
                     improves = s <= current   # coverage, without spoiling the colours
+                    by_rescue = not improves and rescue is not None and rescue.allows(s)
+                    improves = improves or by_rescue
                     if not improves and a["crossings"] == 0 and s[:2] <= current[:2]:
                         improves = True       # no patch yet: any valid strip is progress
                 if not improves and colour in ("crease", "orange", "yellow") and s[:2] <= current[:2] \
@@ -1317,16 +1405,23 @@ def _weave(w, ds, options, start=None):
                     improves = True   # no patch yet: a valid strip that crosses is progress
                 if not improves:
                     break             # candidates are sorted: none after this one is better
+                mark = w.spent_now()
                 index = w.add(loop, point)
                 if index is None:
+                    if by_rescue:
+                        w.book_coverage(mark)
                     continue
                 after = w.assess()
                 # While there is no patch, only validity counts (the colours come with patches).
-                worse = score(after) > current and not (a["crossings"] == 0 and score(after)[:2] <= current[:2])
+                worse = score(after) > current and not (a["crossings"] == 0 and score(after)[:2] <= current[:2]) \
+                    and not (rescue is not None and rescue.gained(after))
                 no_gain = colour == "uncovered" and after["uncovered"]["area"] >= a["uncovered"]["area"] \
                     and after["crossings"] <= a["crossings"]
                 if worse or no_gain:
                     w.remove(index)          # the re-derived design is worse than predicted: reject
+                if by_rescue:
+                    w.book_coverage(mark)
+                if worse or no_gain:
                     continue
                 stalls = stalls + 1 if score(after)[:2] >= current[:2] and colour == "red" else 0
                 added = _entry(ds, index, reason, region, colour, point, cost, elapsed,
@@ -1335,19 +1430,18 @@ def _weave(w, ds, options, start=None):
                 break
             if added:
                 break
-        if not added and splitting and valid and a["uncovered"]["largest_area"] > 0.5 * a["uncovered"]["surface_area"]:
+        if not added and splitting and valid and _mostly_uncovered(a):
             # Only where no strip reaches most of the part: elsewhere the single strips that
             # cover have been found, and a pair tried and taken back spends work refinement
             # would use better (the rocker-arm: 17.4 against 16.6 degrees).
-            pair = _coverage_pair(w, ds, options, a, splitting[0], elapsed)
+            pair = _coverage_pair(w, ds, options, a, splitting[0], elapsed, rescue)
             if pair is not None:
                 entries, a = pair
                 for entry in entries:
                     _record(ds, result, entry)
                 continue
         if colour in COVERAGE and valid:
-            w.coverage_spent = (w.coverage_spent[0] + w.work - spent_before[0],
-                                w.coverage_spent[1] + elapsed() - spent_before[1])
+            w.book_coverage(spent_before)
         if added:
             _record(ds, result, added)
             continue
