@@ -419,6 +419,7 @@ def test_an_edge_routed_by_hand_passes_its_point_and_the_layout_stays_clean():
     routed = [e for e in after["edges"] if e["through"] is not None]
     assert len(routed) == 1
     e = routed[0]
+    assert e["route"] == 0 and all(x["route"] is None for x in after["edges"] if x is not e)
     assert e["vertices"] == before["edges"][k]["vertices"]
     assert _distance_to_points(e["points"], target) <= edge
     assert np.linalg.norm(np.asarray(e["through"]) - target) <= edge
@@ -430,6 +431,29 @@ def test_an_edge_routed_by_hand_passes_its_point_and_the_layout_stays_clean():
     ds.design.edge_routes = []
     ds.apply_layout_inputs()
     assert compute_layout(ds)["edges"] == before["edges"]
+
+
+def test_the_layout_names_the_route_of_each_edge():
+    """Which route is whose is the layout's rule, told in layout.json ("route"), so that an
+    editor re-routing an edge replaces the route the layout applied to it: two routes of one
+    edge (the last counts: route 3) and one of another (route 2), all three well inside
+    their corridors; the first edge takes route 3's point, not route 1's."""
+    surface = sw.from_shape(sphere(5), target_triangles=8000)
+    ds = DesignSession(surface, Design(GREAT_CIRCLES))
+    before = compute_layout(ds)
+    k = _edge_between(before, (1, 1, 1), (1, 1, -1))
+    j = _edge_between(before, (-1, -1, 1), (-1, -1, -1))
+    unit = lambda v: list(5 * np.asarray(v) / np.linalg.norm(v))
+    ds.design.edge_routes = [
+        {"through": unit([0.9, 0.15, 0.35]), "across": before["edges"][k]["crossing_point"]},
+        {"through": unit([-0.9, -0.15, 0.35]), "across": before["edges"][j]["crossing_point"]},
+        {"through": unit([0.15, 0.9, 0.35]), "across": before["edges"][k]["crossing_point"]}]
+    ds.apply_layout_inputs()
+    after = compute_layout(ds)
+    assert after["edges"][k]["route"] == 2 and after["edges"][j]["route"] == 1
+    assert all(e["route"] is None for i, e in enumerate(after["edges"]) if i not in (j, k))
+    edge = math.sqrt(4 * math.pi * 25 / 8000 * 4 / math.sqrt(3))
+    assert np.linalg.norm(np.asarray(after["edges"][k]["through"]) - unit([0.15, 0.9, 0.35])) <= edge
 
 
 def test_an_edge_on_a_crease_keeps_it_when_routed_by_hand(cube_layout):
@@ -444,6 +468,7 @@ def test_an_edge_on_a_crease_keeps_it_when_routed_by_hand(cube_layout):
     L = compute_layout(routed)
     assert any("edge route 1" in p and "crease" in p for p in L["problems"]), L["problems"]
     assert all(x["through"] is None for x in L["edges"])
+    assert L["edges"][0]["route"] == 0      # refused, still the edge's route (an editor replaces it)
     assert [x["points"] for x in L["edges"]] == [x["points"] for x in before["edges"]]
     assert L["clean"] and L["crease_conforming"]
 

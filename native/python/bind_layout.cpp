@@ -17,7 +17,9 @@
 //     edges      [{"points" (n,3), "vertices": [i, j], "arc", "loop",
 //                  "sharp", "boundary", "length", "crossing_point" (where
 //                  it crosses its arc), "through" (the point of a hand
-//                  route, DesignState.edge_routes, it goes through; None)}]
+//                  route, DesignState.edge_routes, it goes through; None),
+//                  "route" (the index of the edge route that names the
+//                  edge, taken or refused; None)}]
 //     patches    [{"edges": [4], "reversed": [4], "corners": [4 vertices],
 //                  "corner_angles_deg": [4], "area", "quad", "crease_length"
 //                  (creases inside the patch, not on its sides), "creased"
@@ -203,6 +205,7 @@ py::dict layout_dict(const Surface& s, const std::vector<Singularity>& singular,
       const Vec3 t = sim.to_model(L.positions[e.through]);
       d["through"] = std::vector<double>{t.x(), t.y(), t.z()};
     }
+    d["route"] = e.route == kInvalid ? py::object(py::none()) : py::object(py::int_(e.route));
     d["defects"] = kind_names(L.defects.edge_defects[edges.size()]);
     edges.append(d);
   }

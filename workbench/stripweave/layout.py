@@ -15,7 +15,8 @@ compute_layout returns, in model units:
                  the design's symmetry: the vertex it is the image of, else None)}]
     edges      [{"points", "vertices": [i, j], "sharp", "boundary", "length", "crossing_point" (where
                  it crosses its loop), "through" (the point of a hand route, design.json's
-                 "edge_routes", it goes through; None)}]
+                 "edge_routes", it goes through; None), "route" (the index in "edge_routes" of
+                 the route that names the edge, taken or refused; None)}]
     patches    [{"edges": [4], "reversed": [4], "corners": [4], "corner_angles_deg": [4], "area",
                  "inradius", "defects": [kind, ...]}] (in the order of the native layout(True))
     summary    {"patches", "irregular_vertices": {"3": n, ...}, "boundary_vertices": {...},

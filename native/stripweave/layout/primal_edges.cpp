@@ -414,8 +414,9 @@ std::vector<PrimalEdge> route_primal_edges(const PrimalContext& ctx, const std::
   // Edges routed by hand go first and keep their routes, as crease routes
   // do; an edge on a crease exit keeps the crease (the crease must lie on
   // primal edges), as a pin leaves a part's corner where it is.
-  std::vector<Index> through(na, kInvalid);
+  std::vector<Index> through(na, kInvalid), route_of(na, kInvalid);
   for (const ResolvedEdgeRoute& r : routes) {
+    route_of[r.arc] = r.route;
     const std::string which = "edge route " + std::to_string(r.route + 1) + " (arc " + std::to_string(r.arc) + ")";
     if (u.pinned(r.arc))
       problems.push_back(which + ": the edge follows a crease and keeps its route");
@@ -455,6 +456,7 @@ std::vector<PrimalEdge> route_primal_edges(const PrimalContext& ctx, const std::
     edge.path = std::move(routed[k]);
     edge.crossing = routed_crossing[k];
     edge.through = through[k];
+    edge.route = route_of[k];
     double sharp = 0, boundary = 0;
     for (size_t i = 0; i + 1 < edge.path.size(); ++i) {
       const Index e = rt.find_edge(edge.path[i], edge.path[i + 1]);

@@ -113,6 +113,12 @@ struct PrimalEdge {
   bool boundary = false;         // runs on the open boundary
   double length = 0;             // normalized units
   Index through = kInvalid;      // refined vertex a hand route (EdgeRoute) takes it through
+  // The hand route that names this edge (its index among the layout's
+  // EdgeRoutes; resolve_edge_routes' rule, the last of several), whether the
+  // edge took it or refused it (an edge on a crease keeps the crease);
+  // kInvalid if none. An editor replaces this route when the edge is
+  // re-routed, so that editor and layout agree on which route is whose.
+  Index route = kInvalid;
 };
 
 struct PrimalPatch {

@@ -117,16 +117,6 @@ def move_vertex(layout_obj, vertex, point):
     return pins
 
 
-def edge_of_route(layout, route):
-    """The layout.json edge a route names: the one whose crossing point is
-    nearest its "across" point (None without edges)."""
-    edges = layout.get("edges", [])
-    if not edges:
-        return None
-    crossings = np.asarray([e["crossing_point"] for e in edges], dtype=float)
-    return int(np.argmin(np.linalg.norm(crossings - np.asarray(route["across"], dtype=float), axis=1)))
-
-
 def route_edge(layout_obj, edge, point):
     """Route layout edge ``edge`` through surface point ``point`` (undo step
     "Re-route layout edge"); the route replaces the edge's earlier one.
@@ -137,7 +127,9 @@ def route_edge(layout_obj, edge, point):
     if not 0 <= int(edge) < len(edges):
         raise ValueError("StripWeave: layout '{}' has no edge {}".format(layout_obj.Label, edge))
     design = layout_obj.Design
-    routes = [r for r in routes_of(design) if edge_of_route(layout, r) != int(edge)]
+    # The layout names the route that is the edge's (its "route": the native
+    # rule that applies routes), so the editor replaces that one.
+    routes = [r for i, r in enumerate(routes_of(design)) if i != edges[int(edge)].get("route")]
     routes.append({"through": [float(c) for c in point],
                    "across": [float(c) for c in edges[int(edge)]["crossing_point"]]})
     _write_pins(design, pins_of(design), ROUTE, routes)
