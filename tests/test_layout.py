@@ -357,6 +357,22 @@ def test_a_pinned_vertex_moves_to_the_pin_and_the_others_stay():
     assert compute_layout(ds)["vertices"] == before["vertices"]
 
 
+def test_the_layout_names_the_pins_of_each_vertex():
+    """Which pin is whose is the layout's rule, told in layout.json (the vertex key "pins"),
+    so that an editor moving a vertex replaces the pins of its region: two pins in the
+    (+,+,+) octant (the last places the vertex) and one in the (-,-,+) octant; a pin at a
+    corner of the part, which keeps the vertex, is still the corner's."""
+    surface = sw.from_shape(sphere(5), target_triangles=8000)
+    unit = lambda v: list(5 * np.asarray(v) / np.linalg.norm(v))
+    pins = [unit([0.8, 0.3, 0.52]), unit([-0.8, -0.3, 0.52]), unit([0.3, 0.8, 0.52])]
+    L = compute_layout(DesignSession(surface, Design(GREAT_CIRCLES, pins=pins)))
+    a, b = _octant_vertex(L, (1, 1, 1)), _octant_vertex(L, (-1, -1, 1))
+    assert L["vertices"][a]["pins"] == [0, 2] and L["vertices"][b]["pins"] == [1]
+    assert all(v["pins"] == [] for i, v in enumerate(L["vertices"]) if i not in (a, b))
+    edge = math.sqrt(4 * math.pi * 25 / 8000 * 4 / math.sqrt(3))
+    assert np.linalg.norm(np.asarray(L["vertices"][a]["position"]) - pins[2]) <= edge
+
+
 def test_a_pin_keeps_a_corner_of_the_part_and_a_crease_vertex_on_its_crease(cube_layout):
     """Pins move vertices only where the rules let them: a cube corner (a crease junction)
     stays where it is, and a vertex on a crease slides along the crease to the crease point
@@ -366,6 +382,7 @@ def test_a_pin_keeps_a_corner_of_the_part_and_a_crease_vertex_on_its_crease(cube
     L = compute_layout(pinned)
     assert [v["position"] for v in L["vertices"]] == [v["position"] for v in before["vertices"]]
     assert all(v["placement"] == "corner" for v in L["vertices"])
+    assert sorted(i for v in L["vertices"] for i in v["pins"]) == [0]    # kept, still the corner's
     # A capped cylinder cut by two loops along its axis and a belt: the vertices on the rims
     # are crease vertices. A pin beside the top rim, off it, moves one along the rim.
     surface = sw.from_shape(capped_cylinder(5, 20), target_triangles=12000)

@@ -13,7 +13,9 @@
 //                  region), "inradius" (the region's largest),
 //                  "image_of" (under the design's layout_symmetries: the
 //                  vertex this one is the symmetric image of, None for an
-//                  orbit's representative and without symmetries)}]
+//                  orbit's representative and without symmetries), "pins"
+//                  (indices of the design's pins in its region, the last
+//                  of which places it)}]
 //     edges      [{"points" (n,3), "vertices": [i, j], "arc", "loop",
 //                  "sharp", "boundary", "length", "crossing_point" (where
 //                  it crosses its arc), "through" (the point of a hand
@@ -177,6 +179,7 @@ py::dict layout_dict(const Surface& s, const std::vector<Singularity>& singular,
     d["region"] = v.region;
     d["placement"] = placement_name(v.placement);
     d["image_of"] = v.image_of == kInvalid ? py::object(py::none()) : py::object(py::int_(v.image_of));
+    d["pins"] = v.pins;
     d["clearance"] = v.clearance * sim.scale;
     d["inradius"] = v.inradius * sim.scale;
     d["defects"] = kind_names(L.defects.vertex_defects[vertices.size()]);

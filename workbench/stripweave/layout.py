@@ -12,7 +12,8 @@ compute_layout returns, in model units:
     valid      no region is red (only then are there vertices, edges and patches)
     vertices   [{"position", "valence", "boundary", "placement", "clearance" (from the loops,
                  within its region), "inradius" (its region's largest clearance), "image_of" (under
-                 the design's symmetry: the vertex it is the image of, else None)}]
+                 the design's symmetry: the vertex it is the image of, else None), "pins" (indices
+                 in design.json's "pins" of those in its region; the last places it)}]
     edges      [{"points", "vertices": [i, j], "sharp", "boundary", "length", "crossing_point" (where
                  it crosses its loop), "through" (the point of a hand route, design.json's
                  "edge_routes", it goes through; None), "route" (the index in "edge_routes" of

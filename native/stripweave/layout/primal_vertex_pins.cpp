@@ -7,7 +7,7 @@
 //         vertices and their wedges (place_primal_vertices).
 // Output  the vertices of the pinned regions moved (placement Pinned, their
 //         position, refined vertex, boundary flag and clearance updated) and
-//         vertex_wedge with them.
+//         vertex_wedge with them; every vertex lists the pins in its region.
 // Rules   A pin belongs to the region of the nearest refined vertex off the
 //         loops: a region is where the user dropped the vertex. It moves the
 //         vertex only among the points the placement rules allow there, so a
@@ -45,11 +45,13 @@ void pin_primal_vertices(const PrimalContext& ctx, const std::vector<Vec3>& pins
   if (pins.empty()) return;
   const std::vector<std::uint8_t> on_crease = crease_vertices(ctx);
   bool moved = false;
-  for (const Vec3& pin : pins) {
+  for (Index i = 0; i < static_cast<Index>(pins.size()); ++i) {
+    const Vec3& pin = pins[i];
     const Index dropped = nearest_wedge(ctx, pin, [](Index) { return true; });
     if (dropped == kInvalid) continue;
     const Index r = ctx.wedge_region[dropped];
     PrimalVertex& pv = vertices[r];
+    pv.pins.push_back(i);
     const VertexPlacement rule = pv.placement;
     if (rule == VertexPlacement::Corner || vertex_wedge[r] == kInvalid) continue;
     const Index w = nearest_wedge(ctx, pin, [&](Index x) {

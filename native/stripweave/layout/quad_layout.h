@@ -102,6 +102,11 @@ struct PrimalVertex {
   // (primal_vertex_symmetry.cpp); kInvalid for an orbit's representative
   // and without symmetries.
   Index image_of = kInvalid;
+  // The pins (indices among the layout's pins) that lie in its region, by
+  // pin_primal_vertices' rule (the last of them places the vertex, unless
+  // the vertex is a corner of the part): an editor moving this vertex
+  // replaces them, so that editor and layout agree on which pin is whose.
+  std::vector<Index> pins;
 };
 
 struct PrimalEdge {

@@ -86,11 +86,17 @@ def region_of_point(mesh, point, centroids=None):
 
 
 def pins_in_region(layout_obj, vertex, pins):
-    """Indices of ``pins`` lying in the region of layout vertex ``vertex``.
-    Without the region mesh in memory (a reopened document before its
-    recompute): the pins nearer to that vertex than to any other vertex."""
+    """Indices of ``pins`` (the Design's) lying in the region of layout
+    vertex ``vertex``: the layout's own answer, layout.json's vertex key
+    "pins" (the rule that applies pins; the Layout recomputes with its
+    Design, so its pins are these). A layout stored by an older version,
+    without the key: the pins on the solver triangles of that region, or,
+    without the region mesh in memory (a reopened document before its
+    recompute), those nearer to that vertex than to any other vertex."""
     layout = layout_obj.Proxy.layout(layout_obj)
     vertices = layout.get("vertices", [])
+    if "pins" in vertices[vertex]:
+        return [int(i) for i in vertices[vertex]["pins"] if 0 <= int(i) < len(pins)]
     mesh = layout_obj.Proxy.mesh(layout_obj)
     if mesh is not None and "region" in mesh:
         region = int(vertices[vertex]["region"])
