@@ -214,3 +214,50 @@ def test_given_rotation_is_measured(fan):
     assert r[0]["source"] == "given" and r[0]["max_error"] <= 1e-3 * fan.bbox_diagonal
     with pytest.raises(native.InputError, match="more than the tolerance"):
         resolve(fan, "rotate:0,0,0,0,0,1,4")
+
+
+def test_a_rotation_makes_the_solver_mesh_exactly_symmetric_and_the_loops_follow(fan):
+    """The hub (order 5) remeshed is symmetric only to its tessellation: the loop through a
+    rotated anchor strays from the rotated loop by more than a solver edge, and the weave
+    refused its symmetric strips. Its solver mesh made of one sector turned five times
+    (rotation_surface.h) is exact: every vertex's image is a vertex, the part keeps its
+    topology and sharp edges, and the loop through each rotated anchor IS the rotated loop."""
+    from models import is_watertight_manifold
+    from stripweave.loops import LoopSession
+    from stripweave.symmetry import hausdorff, mean_edge_length
+    rot = resolve(fan, "rotate:0,0,0,0,0,1,5")[0]
+    sym = native.symmetric_surface(fan, rot)
+    assert native.measure_symmetry(sym, rot)["max_error"] <= 1e-12 * fan.bbox_diagonal
+    assert is_watertight_manifold(sym)
+    assert {k: sym.report()[k] for k in ("genus", "components", "boundary_loops")} == \
+        {k: fan.report()[k] for k in ("genus", "components", "boundary_loops")}
+    assert abs(sym.report()["feature_edges"] - fan.report()["feature_edges"]) < 0.05 * fan.report()["feature_edges"]
+    assert abs(len(sym.triangles) - len(fan.triangles)) < 0.25 * len(fan.triangles)
+
+    def worst_image_gap(surface, anchor):
+        session = LoopSession(surface)
+        loop = np.asarray(session.loops([anchor], 1)[0]["points"])
+        images = native.anchor_images(surface, rot, anchor)
+        return max(hausdorff(np.asarray(session.loops([list(images[k - 1])], 1)[0]["points"]),
+                             np.asarray(native.map_points(rot, loop, k))) for k in range(1, 5))
+    anchor = [3.0, 3.5, 5.0, 1, 0, 0]             # on the hub's top, across it
+    assert worst_image_gap(fan, anchor) > mean_edge_length(fan)
+    assert worst_image_gap(sym, anchor) <= 1e-9 * fan.bbox_diagonal
+
+
+def test_a_half_turn_through_faces_welds_at_the_axis():
+    """A half turn whose axis pierces two faces (the turned slab): one cutting plane, so the
+    points where the surface meets the axis are made vertices of both seams; the welded mesh
+    is exact and closed. A rotation the part does not have leaves no sector that stands for
+    the others: one line, and stripweave.symmetry.symmetric_surface keeps the mesh."""
+    from models import is_watertight_manifold, turned_box
+    from stripweave.symmetry import symmetric_surface
+    surface = sw.from_shape(turned_box(), target_triangles=8000)
+    half = [s for s in resolve(surface, "auto", None, 1e-3) if s["kind"] == "rotation"][0]
+    sym = native.symmetric_surface(surface, half)
+    assert native.measure_symmetry(sym, half)["max_error"] <= 1e-12 * surface.bbox_diagonal
+    assert is_watertight_manifold(sym) and sym.report()["genus"] == 0
+    wrong = dict(half, order=4)
+    with pytest.raises(native.InputError, match="rotation-symmetric"):
+        native.symmetric_surface(surface, wrong)
+    assert symmetric_surface(surface, [wrong]) is surface

@@ -11,7 +11,8 @@
 // anchor_images(surface, dict, anchor) -> [[x,y,z(,dx,dy,dz)], ...]: the
 //   anchor's images under psi^1 .. psi^(n-1), re-projected (anchor_images.h).
 // symmetric_surface(surface, dict) -> Surface: the solver mesh made exactly
-//   symmetric under a reflection (symmetric_surface.h).
+//   symmetric under a reflection or a rotation (symmetric_surface.h,
+//   rotation_surface.h).
 // map_points(dict, points, k=1) -> (n, 3) array: psi^k of the points.
 // image_distance(dict, k, a, b) -> one-sided distance of psi^k(a) from the
 //   polyline b (image_distance.h), model units.
@@ -135,8 +136,9 @@ void bind_symmetry(py::module_& m) {
         const Symmetry sym = normalized_symmetry(s, symmetry_of(d));
         py::gil_scoped_release release;
         return std::make_shared<Surface>(symmetric_surface(s, sym));
-      }, py::arg("surface"), py::arg("reflection"),
-      "The surface with its solver mesh made exactly symmetric under the reflection (one half mirrored)");
+      }, py::arg("surface"), py::arg("symmetry"),
+      "The surface with its solver mesh made exactly symmetric under the reflection (one half mirrored) "
+      "or the rotation (one sector turned n times)");
 
   m.def("map_points", [](const py::dict& d, const py::handle& points, int k) {
         const Symmetry sym = symmetry_of(d);

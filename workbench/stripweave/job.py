@@ -195,7 +195,7 @@ def weave(model, design=None, auto=True, out=None, max_strips=None, patches=0, f
                 (the design's "symmetry", else none): every strip weaving adds comes with its
                 images (paper §5.8); symmetry_tolerance: the error accepted, in diagonals;
                 symmetric_mesh: weave on a solver mesh made exactly symmetric under the
-                reflections (symmetry.symmetric_surface)
+                reflections, or the one rotation (symmetry.symmetric_surface)
     """
     timings = {}
     memory = StageMemory()

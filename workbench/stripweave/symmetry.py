@@ -103,13 +103,32 @@ def resolve(surface, spec, design_symmetry=None, tolerance=1e-3):
     return out
 
 
+def mesh_symmetries(symmetries):
+    """The symmetries the solver mesh is made exact under (symmetric_surface): every
+    reflection, else a rotation if it is the only symmetry. A rotation's mesh is n turned
+    copies of one sector, exactly symmetric under the rotation only: beside a reflection (a
+    mirror through the axis) the sector would have to be a mirror-symmetric one, and beside
+    another rotation one sector cannot serve both."""
+    symmetries = list(symmetries or ())
+    mirrors = [s for s in symmetries if s["kind"] == "reflection"]
+    if mirrors:
+        return mirrors
+    return symmetries if len(symmetries) == 1 else []
+
+
 def symmetric_surface(surface, symmetries):
-    """The surface with its solver mesh made exactly symmetric under each reflection in turn
-    (native symmetric_surface: one half cut at the plane and mirrored), so that a strip's
-    image is the image of its loop on the graph too. Rotations keep the mesh as it is."""
-    for sym in symmetries:
-        if sym["kind"] == "reflection":
+    """The surface with its solver mesh made exactly symmetric under mesh_symmetries(): each
+    reflection in turn (native symmetric_surface: one half cut at the plane and mirrored), or
+    the rotation (one sector cut between two half-planes through the axis and turned n times,
+    rotation_surface.h), so that a strip's image is the image of its loop on the graph too. A
+    part not rotation-symmetric enough for one sector to stand for the others (the welded
+    mesh's genus or boundaries would differ) keeps its mesh."""
+    for sym in mesh_symmetries(symmetries):
+        try:
             surface = native.symmetric_surface(surface, sym)
+        except native.InputError:
+            if sym["kind"] == "reflection":
+                raise
     return surface
 
 

@@ -3,7 +3,8 @@
 #include "stripweave/cgal/surface_locator.h"
 #include "stripweave/core/error.h"
 #include "stripweave/surface/feature_curves.h"
-#include "stripweave/surface/surface_report.h"
+#include "stripweave/symmetry/rotation_surface.h"
+#include "stripweave/symmetry/surface_rebuild.h"
 
 #include <unordered_map>
 
@@ -26,14 +27,8 @@ struct Half {
   std::vector<Index> source_triangle;  // per triangle of M0
 };
 
-double mean_edge(const Surface& s) {
-  double sum = 0;
-  for (const EdgeKey& e : s.topology.edges) sum += (s.mesh.positions[e[1]] - s.mesh.positions[e[0]]).norm();
-  return s.topology.num_edges() ? sum / s.topology.num_edges() : 0.0;
-}
-
 Half cut_half(const Surface& s, const Symmetry& m) {
-  const double snap = 0.1 * mean_edge(s);
+  const double snap = 0.1 * mean_edge_length(s);
   const Index nv = s.mesh.num_vertices();
   std::vector<double> d(nv);
   Half h;
@@ -112,19 +107,13 @@ EdgeClass class_of(const Surface& s, const Origin& u, const Origin& v) {
 }  // namespace
 
 Surface symmetric_surface(const Surface& s, const Symmetry& m) {
-  if (m.kind != SymmetryKind::Reflection) throw InputError("only a reflection can make the solver mesh symmetric");
+  if (m.kind == SymmetryKind::Rotation) return rotation_symmetric_surface(s, m);
   const Half h = cut_half(s, m);
   const Index n0 = static_cast<Index>(h.positions.size());
   if (h.triangles.empty() || h.triangles.size() == s.mesh.triangles.size())
     throw InputError("the symmetry plane does not cut the surface into two parts");
   Surface out;
-  out.similarity = s.similarity;
-  out.brep = s.brep;
-  out.source_mesh = s.source_mesh;
-  out.brep_faces = s.brep_faces;
-  out.input_triangles = s.input_triangles;
-  out.warnings = s.warnings;
-  out.timings = s.timings;
+  carry_source(out, s);
   // Vertices: M0's, then the mirror of each that is off the plane.
   std::vector<Index> mirror(n0);
   out.mesh.positions = h.positions;
@@ -174,30 +163,19 @@ Surface symmetric_surface(const Surface& s, const Symmetry& m) {
       out.source_face[t] = s.source_face[original.closest(c).triangle];
     }
   }
-  out.topology = MeshTopology::build(out.mesh);
-  std::vector<Index> comp;
-  out.components = triangle_components(out.topology, out.mesh.num_triangles(), comp);
-  out.boundary_loops = boundary_loops(out.mesh, out.topology);
-  out.genus = genus_from_euler(out.mesh.num_vertices(), out.topology.num_edges(), out.mesh.num_triangles(),
-                               out.components, static_cast<Index>(out.boundary_loops.size()));
   // Edge classes from M0's edges (a mirrored edge takes its original's class).
   std::vector<Index> source(nv, kInvalid);  // per vertex, its M0 vertex
   for (Index v = 0; v < n0; ++v) source[v] = v, source[mirror[v]] = v;
-  std::vector<bool> feature(out.topology.num_edges(), false);
-  for (Index e = 0; e < out.topology.num_edges(); ++e) {
-    const Index u = source[out.topology.edges[e][0]], v = source[out.topology.edges[e][1]];
-    feature[e] = !out.topology.is_boundary_edge(e) && class_of(s, h.origin[u], h.origin[v]) == EdgeClass::Feature;
-  }
-  out.edge_class = classify_edges(out.topology, feature);
   std::vector<bool> end(nv, false);
-  std::vector<bool> was_end(s.mesh.num_vertices(), false);
-  for (const FeatureCurve& c : s.feature_curves)
-    if (!c.closed && !c.vertices.empty()) was_end[c.vertices.front()] = was_end[c.vertices.back()] = true;
+  const std::vector<bool> was_end = feature_curve_ends(s);
   for (Index v = 0; v < nv; ++v) {
     const Origin& o = h.origin[source[v]];
     end[v] = o.b == kInvalid && was_end[o.a];
   }
-  out.feature_curves = chain_feature_curves(out.mesh, out.topology, out.edge_class, end, 0.0, out.edge_curve);
+  rebuild_surface_structure(out, [&](Index e) {
+    const Index u = source[out.topology.edges[e][0]], v = source[out.topology.edges[e][1]];
+    return class_of(s, h.origin[u], h.origin[v]) == EdgeClass::Feature;
+  }, end);
   return out;
 }
 

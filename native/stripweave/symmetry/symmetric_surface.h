@@ -15,6 +15,7 @@
 //   triangle's source B-rep face is the face of the original triangle nearest
 //   to it. The similarity, the source B-rep and mesh are shared.
 //   InputError when the plane misses the surface (nothing on one side).
+//   A rotation goes to rotation_symmetric_surface (rotation_surface.h).
 #pragma once
 
 #include "stripweave/surface/surface.h"
@@ -22,6 +23,6 @@
 
 namespace stripweave {
 
-Surface symmetric_surface(const Surface& surface, const Symmetry& reflection);
+Surface symmetric_surface(const Surface& surface, const Symmetry& symmetry);
 
 }  // namespace stripweave

@@ -68,22 +68,28 @@ def design_key(design, features):
 def loop_options_key(design):
     """The options the loop engine (elastica graph) is built with: changing
     them needs a new LoopSession (a graph build), the rest only an update.
-    The accepted reflections change the solver mesh, hence the graph."""
-    return json.dumps([design.loop_options(), reflections(design)], sort_keys=True)
+    The accepted symmetries the solver mesh is made exact under change it,
+    hence the graph."""
+    return json.dumps([design.loop_options(), mesh_maps(design)], sort_keys=True)
 
 
-def reflections(design):
-    """The design's accepted reflections (point, normal), what its solver mesh depends on."""
-    return [[s["point"], s["normal"]] for s in design.symmetry or [] if s.get("kind") == "reflection"]
+def mesh_maps(design):
+    """The design's symmetries its solver mesh depends on (kind, point, normal
+    or axis, order: stripweave.symmetry.mesh_symmetries)."""
+    import_stripweave()
+    from stripweave.symmetry import mesh_symmetries
+    return [[s["kind"], s["point"], s.get("normal"), s.get("axis"), s.get("order")]
+            for s in mesh_symmetries(design.symmetry)]
 
 
 def solver_surface(surface, design):
-    """The surface the design's strips are derived on: with reflections accepted, made
-    exactly symmetric under them (stripweave.symmetry.symmetric_surface: one half cut at the
-    plane and mirrored), so that a strip's image is the image of its loop on the graph too
-    (a tessellation symmetric only roughly put a mirrored loop 0.3 off on a 46 mm slab,
-    past design.md's 1e-3 of the diagonal); the surface itself otherwise."""
-    if not reflections(design):
+    """The surface the design's strips are derived on: with symmetries accepted, made
+    exactly symmetric under them (stripweave.symmetry.symmetric_surface: one half cut at a
+    mirror plane and mirrored, or one sector turned about a rotation's axis), so that a
+    strip's image is the image of its loop on the graph too (a tessellation symmetric only
+    roughly put a mirrored loop 0.3 off on a 46 mm slab, past design.md's 1e-3 of the
+    diagonal); the surface itself otherwise."""
+    if not mesh_maps(design):
         return surface
     from stripweave.symmetry import symmetric_surface
     return symmetric_surface(surface, design.symmetry)
