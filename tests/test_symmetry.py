@@ -261,3 +261,27 @@ def test_a_half_turn_through_faces_welds_at_the_axis():
     with pytest.raises(native.InputError, match="rotation-symmetric"):
         native.symmetric_surface(surface, wrong)
     assert symmetric_surface(surface, [wrong]) is surface
+
+
+def test_a_loop_around_the_axis_is_its_own_turned_image_exactly(fan):
+    """On the hub's rotation-symmetric mesh the loop around the hub through one anchor is one
+    of five equal-cost turned copies, its own image only to within an edge (0.5 mm: refused,
+    past 1e-3 of the diagonal). add_images anchors it at the anchor's turned images
+    as well; the loop, five turned copies of one leg, is then exactly its own image and needs
+    no image strip."""
+    from stripweave.strips import DesignSession
+    from stripweave.symmetry import add_images, image_tolerance, orbit, symmetric_surface
+    rot = resolve(fan, "rotate:0,0,0,0,0,1,5")
+    surface = symmetric_surface(fan, rot)
+    anchor = [0.0, -5.0, 3.5, 1.0, 0.0, 0.0]        # on the hub's side, around it
+    ds = DesignSession(surface, Design([[anchor]]))
+    alone = ds.strip(0)["points"]
+    _, own = orbit(surface, rot, ds.design.strips[0].anchors[0].to_list(), alone, image_tolerance(surface), [])
+    assert 1e-3 * fan.bbox_diagonal < own <= image_tolerance(surface)
+    assert add_images(ds, 0, rot, image_tolerance(surface), 1e-3 * fan.bbox_diagonal) == 0
+    assert len(ds.design.strips) == 1 and len(ds.design.strips[0].anchors) == 5
+    points = np.asarray(ds.strip(0)["points"])
+    _, own = orbit(surface, rot, anchor, points, image_tolerance(surface), [])
+    assert own <= 1e-9 * fan.bbox_diagonal
+    radius = np.linalg.norm(points[:, :2], axis=1)
+    assert radius.min() > 4.5 and np.ptp(points[:, 2]) < 3.0   # still the loop around the hub's side
