@@ -16,8 +16,6 @@ import json
 import os
 import sys
 
-import numpy as np
-
 import FreeCAD as App
 import FreeCADGui as Gui
 from PySide import QtCore, QtGui
@@ -112,9 +110,17 @@ def click_on_part(view, tool, design, label):
     return json.loads(design.DesignJson)["strips"], design.Proxy.derived(design)
 
 
+def pair_error(clicked, stored):
+    """(the strips, the symmetry error of the clicked strip's loop and its image's) after a
+    click (click_on_part), the error None unless there are two loops and a symmetry."""
+    from stripweave.symmetry import loops_symmetry_error
+    strips, d = clicked
+    loops = [s["points"] for s in d.strips] if d is not None else []
+    return strips, loops, (loops_symmetry_error(loops, stored[0]) if len(loops) == 2 and stored else None)
+
+
 def scenario():
     from models import mirrored_box
-    from stripweave.symmetry import loops_symmetry_error
 
     Gui.activateWorkbench("StripWeaveWorkbench")
     opened = tool_with_detected_symmetries("StripWeaveSymmetry", "MirroredBox", mirrored_box())
@@ -137,9 +143,7 @@ def scenario():
     clicked = click_on_part(view, tool, design, "")
     if clicked is None:
         return
-    strips, d = clicked
-    loops = [s["points"] for s in d.strips] if d is not None else []
-    error = loops_symmetry_error(loops, stored[0]) if len(loops) == 2 and stored else None
+    strips, loops, error = pair_error(clicked, stored)
     h.result["info"]["mirror_error"] = error
     h.result["info"]["x_means"] = [float(p[:, 0].mean()) for p in loops]
     h.result["info"]["status"] = panel.status.text()
@@ -167,11 +171,11 @@ def scenario():
 def rotation_phase():
     """The slab with its bosses a half turn about z apart (no mirror plane): Detect lists the
     rotation of order 2; ticked, its axis is drawn, and a click on the part adds a strip and
-    its image under the half turn (the solver mesh is not made symmetric under rotations, so
-    the image loop is searched afresh: within a few solver edges of the mapped loop)."""
+    its image under the half turn, as exact as a mirror pair: the solver mesh is made
+    symmetric under the rotation (one half turned), so the image loop searched there is the
+    turned loop."""
     from models import turned_box
     from freecad.stripweave_wb import design_tool
-    from stripweave.symmetry import loops_symmetry_error
     if design_tool.active_tool() is not None:
         design_tool.active_tool().close()
     opened = tool_with_detected_symmetries("StripWeaveRotation", "TurnedBox", turned_box())
@@ -195,21 +199,13 @@ def rotation_phase():
     clicked = click_on_part(view, tool, design, "rotation: ")
     if clicked is None:
         return
-    strips, d = clicked
-    loops = [s["points"] for s in d.strips] if d is not None else []
-    error = loops_symmetry_error(loops, stored[0]) if len(loops) == 2 and stored else None
-    # The image's loop is searched afresh on a mesh the half turn does not map onto itself:
-    # it must lie within the weave's image tolerance, two mean solver edges (symmetry.py).
-    edge = None
-    if d is not None:
-        v, t = np.asarray(d.vertices, dtype=float).reshape(-1, 3), np.asarray(d.triangles).reshape(-1, 3)
-        edge = float(np.linalg.norm(v[t[:, [1, 2, 0]]] - v[t], axis=2).mean())
-    h.result["info"].update({"rotation_error": error, "rotation_diagonal": diagonal, "rotation_edge": edge,
+    strips, _, error = pair_error(clicked, stored)
+    h.result["info"].update({"rotation_error": error, "rotation_diagonal": diagonal,
                              "rotation_status": panel.status.text()})
     check("rotation: the click adds the strip and its image (2 strips)",
           len(strips) == 2 and strips[1].get("image_of") == 0, (len(strips), panel.status.text()))
-    check("rotation: the two loops are each other's half-turn images within two solver edges",
-          error is not None and edge is not None and error <= 2 * edge, (error, edge))
+    check("rotation: the two loops are each other's half-turn images within 1e-3 of the diagonal",
+          error is not None and error <= 1e-3 * diagonal, error)
     check("rotation: screenshot saved", h.save_screenshot(view, os.path.join(WORKDIR, "rotation.png")))
 
 

@@ -228,18 +228,18 @@ def _turned_onto_itself(ds, index, symmetries, anchor, tolerance, existing, befo
     keeps its one anchor."""
     rotation = symmetries[0]
     turned = [list(a) for a in native.anchor_images(ds.surface, rotation, anchor)]
-    best = None
+    best = current = None     # the cheaper sense, and the one the strip has now
     for order in (turned, turned[::-1]):
         try:
-            ds.edit_strip(index, [anchor] + order)
+            ds.edit_strip(index, [anchor] + order)   # a refusal restores the strip as it was
         except native.InputError:
             continue
+        current = order
         if best is None or ds.strip(index)["cost"] < best[0]:
             best = (ds.strip(index)["cost"], order)
     if best is None:
-        ds.edit_strip(index, [anchor])
         return before
-    if best[1] is not order:
+    if best[1] is not current:
         ds.edit_strip(index, [anchor] + best[1])
     return orbit(ds.surface, symmetries, anchor, ds.strip(index)["points"], tolerance, existing)
 

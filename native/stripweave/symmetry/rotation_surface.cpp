@@ -86,10 +86,17 @@ struct SeamEdge {
   Index a, b, triangle;
 };
 
-std::vector<SeamEdge> seam_edges(const Sector& m, int side) {
+// Per edge of the sector (packed key), how many of its triangles use it: 1
+// on its boundary (the seams and the part's open boundary).
+std::unordered_map<std::uint64_t, int> edge_uses(const Sector& m) {
   std::unordered_map<std::uint64_t, int> uses;
   for (const Tri& t : m.triangles)
     for (int i = 0; i < 3; ++i) ++uses[pack_edge(edge_key(t[i], t[(i + 1) % 3]))];
+  return uses;
+}
+
+std::vector<SeamEdge> seam_edges(const Sector& m, int side) {
+  std::unordered_map<std::uint64_t, int> uses = edge_uses(m);
   std::vector<SeamEdge> out;
   for (Index k = 0; k < static_cast<Index>(m.triangles.size()); ++k) {
     const Tri& t = m.triangles[k];
@@ -251,9 +258,7 @@ Sector sector_of(const Surface& s, const Symmetry& rot, const Frame& f, std::vec
   // Where the surface crosses the axis inside a triangle, the boundary runs
   // from one seam to the other across it (order 2 has one cutting plane, so
   // no second cut makes the point there): a vertex on the axis, on both.
-  std::unordered_map<std::uint64_t, int> uses;
-  for (const Tri& t : m.triangles)
-    for (int i = 0; i < 3; ++i) ++uses[pack_edge(edge_key(t[i], t[(i + 1) % 3]))];
+  std::unordered_map<std::uint64_t, int> uses = edge_uses(m);
   const Index triangles = static_cast<Index>(m.triangles.size());
   for (Index k = 0; k < triangles; ++k)
     for (int i = 0; i < 3; ++i) {
