@@ -76,3 +76,18 @@ def test_a_failed_save_leaves_the_old_file(tmp_path):
     with pytest.raises(TypeError):
         d.save(path)
     assert path.read_text() == before
+
+
+def test_removing_strips_renumbers_their_images():
+    """A strip's symmetric images name it ("image_of"): removing strips leaves an image of a
+    removed strip an image no longer, and a later image naming its original anew."""
+    from stripweave.design import Design, Strip
+    strips = [Strip([[float(i), 0.0, 0.0]]) for i in range(5)]
+    strips[1].extra["image_of"] = 0
+    strips[3].extra["image_of"] = 2
+    strips[4].extra["image_of"] = 2
+    d = Design(strips)
+    d.remove_strip(0)
+    assert [s.extra.get("image_of") for s in d.strips] == [None, None, 1, 1]
+    d.remove_strips(0, 2)
+    assert [s.extra.get("image_of") for s in d.strips] == [None, None]

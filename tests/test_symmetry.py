@@ -276,12 +276,87 @@ def test_a_loop_around_the_axis_is_its_own_turned_image_exactly(fan):
     anchor = [0.0, -5.0, 3.5, 1.0, 0.0, 0.0]        # on the hub's side, around it
     ds = DesignSession(surface, Design([[anchor]]))
     alone = ds.strip(0)["points"]
-    _, own = orbit(surface, rot, ds.design.strips[0].anchors[0].to_list(), alone, image_tolerance(surface), [])
+    _, own = orbit(surface, rot, [ds.design.strips[0].anchors[0].to_list()], alone, image_tolerance(surface), [])
     assert 1e-3 * fan.bbox_diagonal < own <= image_tolerance(surface)
     assert add_images(ds, 0, rot, image_tolerance(surface), 1e-3 * fan.bbox_diagonal) == 0
     assert len(ds.design.strips) == 1 and len(ds.design.strips[0].anchors) == 5
     points = np.asarray(ds.strip(0)["points"])
-    _, own = orbit(surface, rot, anchor, points, image_tolerance(surface), [])
+    _, own = orbit(surface, rot, [anchor], points, image_tolerance(surface), [])
     assert own <= 1e-9 * fan.bbox_diagonal
     radius = np.linalg.norm(points[:, :2], axis=1)
     assert radius.min() > 4.5 and np.ptp(points[:, 2]) < 3.0   # still the loop around the hub's side
+
+
+def test_the_axis_meets_the_hub_at_two_caps_and_seeds_pass_beside_them(fan):
+    """Where the axis meets the surface (axis_seeds.h): the hub's top and bottom centres, each
+    on a flat cap of radius 5 (its rim is a crease), outward normals -z and +z; a seed holds
+    one anchor beside each, at the middle clearance (half of 5 cos 36 degrees), running
+    across the radial direction, in opposite senses (the loop goes over the top and back
+    under the bottom)."""
+    from stripweave.symmetry import axis_seeds, symmetric_surface
+    rot = resolve(fan, "rotate:0,0,0,0,0,1,5")
+    surface = symmetric_surface(fan, rot)
+    points = native.axis_points(surface, rot[0])
+    assert [round(p["point"][2], 6) for p in points] == [-2.0, 5.0]
+    assert np.allclose([p["normal"] for p in points], [[0, 0, -1], [0, 0, 1]], atol=1e-6)
+    edge = 2 * np.sqrt(surface.bbox_diagonal ** 2 / len(surface.triangles))   # about a solver edge
+    assert all(abs(p["cap_radius"] - 5.0) < edge for p in points)
+    seeds = axis_seeds(surface, rot)
+    assert len(seeds) == 3 and all(len(seed) == 2 for seed in seeds)
+    middle = np.asarray(seeds[0])
+    clearance = np.linalg.norm(middle[:, :2], axis=1)
+    assert np.allclose(clearance, 0.5 * np.cos(np.pi / 5) * np.array([p["cap_radius"] for p in points]), rtol=0.02)
+    radial = middle[:, :2] / clearance[:, None]
+    assert np.allclose(np.sum(radial * middle[:, 3:5], axis=1), 0, atol=1e-6)   # across the radial direction
+    assert np.allclose(middle[:, 5], 0, atol=1e-6)
+    assert middle[0, 3:6] @ middle[1, 3:6] < -0.99                               # opposite senses
+
+
+def test_no_axis_seeds_under_an_even_order():
+    """Under a quarter-turn the group holds the half-turn, which maps a chord beside the axis
+    onto the parallel chord across it (one strip's two sides: the mask refuses it): a box
+    turned about the axis through two face centres has both points, and no seed."""
+    from models import box
+    from stripweave.symmetry import axis_seeds
+    cube = sw.from_shape(box(10.0), target_triangles=4000)
+    quarter = [{"kind": "rotation", "point": [5.0, 5.0, 5.0], "axis": [0.0, 0.0, 1.0], "order": 4}]
+    assert len(native.axis_points(cube, quarter[0])) == 2
+    assert axis_seeds(cube, quarter) == []
+    assert len(axis_seeds(cube, [dict(quarter[0], order=3)])) == 3
+
+
+def test_a_strip_with_two_anchors_has_images_through_both_images(fan):
+    """A strip's images map every anchor: the loop beside both ends of the hub's axis, its
+    images searched again through the first anchor's image alone, closed under the bottom
+    wherever was cheapest, and the design refused them (not the images of the loop)."""
+    from stripweave.strips import DesignSession
+    from stripweave.symmetry import add_images, axis_seeds, image_tolerance, loops_symmetry_error, \
+        symmetric_surface
+    rot = resolve(fan, "rotate:0,0,0,0,0,1,5")
+    surface = symmetric_surface(fan, rot)
+    taken = []
+    for seed in axis_seeds(surface, rot):      # some clearances run the images' ends together
+        ds = DesignSession(surface, Design([seed]))
+        try:
+            taken.append(add_images(ds, 0, rot, image_tolerance(surface), 1e-3 * fan.bbox_diagonal))
+        except native.InputError:
+            continue
+        assert all(len(s.anchors) == 2 for s in ds.design.strips)
+        assert loops_symmetry_error([s["points"] for s in ds.strips()], rot[0]) <= 1e-9 * fan.bbox_diagonal
+    assert taken and all(k == 4 for k in taken)
+
+
+def test_the_hub_weaves_a_layout_invariant_under_its_turn(fan, tmp_path):
+    """Issue 21's hub test: the weave gives a layout invariant under a rotation of 72 degrees.
+    Every loop through the hub's top or bottom centre has its four images through it too, and
+    the weave took no strip at all (seeds at those centres, loops over the top); beside the
+    axis first, five chords bound a pentagon on each cap, and the layout is valid."""
+    from stripweave.symmetry import layout_symmetry_error
+    result = sw.weave(fan, out=str(tmp_path), symmetry="rotate:0,0,0,0,0,1,5", budget=60)
+    rot = result["symmetry"][0]
+    assert result["valid"] and result["strips"] >= 5 and result["strips"] % 5 == 0
+    assert result["log"][0]["reason"] == "beside the rotation's axis"
+    assert rot["loops_max_error"] <= 1e-3 * fan.bbox_diagonal
+    layout = json.loads((tmp_path / "layout.json").read_text())
+    assert layout_symmetry_error(layout, rot) <= 1e-3 * fan.bbox_diagonal
+    assert rot["layout_max_error"] <= 1e-3 * fan.bbox_diagonal

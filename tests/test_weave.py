@@ -1030,6 +1030,11 @@ class _ScriptedWeave:
     def count_cuts(self, a):
         pass
 
+    def axis_entries(self, a, skip):
+        return []          # no symmetry: no rotation's axis to pass beside
+
+    axis_placed = False
+
     def max_strips(self):
         return self.cap
 

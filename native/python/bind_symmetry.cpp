@@ -10,6 +10,10 @@
 //   with its rms_error and max_error on the surface (symmetry_error.h).
 // anchor_images(surface, dict, anchor) -> [[x,y,z(,dx,dy,dz)], ...]: the
 //   anchor's images under psi^1 .. psi^(n-1), re-projected (anchor_images.h).
+// axis_points(surface, dict) -> [{"point", "normal", "cap_radius"}]: where a
+//   rotation's axis meets the surface (axis_seeds.h), model units.
+// axis_seeds(surface, dict, fractions) -> per clearance fraction, the anchors
+//   [[x,y,z,dx,dy,dz], ...] of one loop beside every such point (axis_seed).
 // symmetric_surface(surface, dict) -> Surface: the solver mesh made exactly
 //   symmetric under a reflection or a rotation (symmetric_surface.h,
 //   rotation_surface.h).
@@ -20,6 +24,7 @@
 
 #include "stripweave/core/error.h"
 #include "stripweave/symmetry/anchor_images.h"
+#include "stripweave/symmetry/axis_seeds.h"
 #include "stripweave/symmetry/detect_symmetries.h"
 #include "stripweave/symmetry/image_distance.h"
 #include "stripweave/symmetry/symmetric_surface.h"
@@ -131,6 +136,43 @@ void bind_symmetry(py::module_& m) {
         return out;
       }, py::arg("surface"), py::arg("symmetry"), py::arg("anchor"),
       "The anchor's images on the other parts, re-projected onto the surface");
+
+  m.def("axis_points", [](const Surface& s, const py::dict& d) {
+        const Symmetry sym = normalized_symmetry(s, symmetry_of(d));
+        py::list out;
+        for (const AxisPoint& p : axis_points(s, sym)) {
+          py::dict x;
+          x["point"] = list3(s.similarity.to_model(p.point));
+          x["normal"] = list3(p.normal);
+          x["cap_radius"] = p.cap_radius * s.similarity.scale;
+          out.append(x);
+        }
+        return out;
+      }, py::arg("surface"), py::arg("symmetry"), "Where a rotation's axis meets the surface, model units");
+
+  m.def("axis_seeds", [](const Surface& s, const py::dict& d, const std::vector<double>& fractions) {
+        const Symmetry sym = normalized_symmetry(s, symmetry_of(d));
+        if (sym.kind != SymmetryKind::Rotation) throw InputError("axis seeds need a rotation");
+        std::vector<std::vector<Anchor>> seeds;
+        {
+          py::gil_scoped_release release;
+          const std::vector<AxisPoint> points = axis_points(s, sym);
+          const SurfaceLocator locator(s.mesh);
+          for (double f : fractions) seeds.push_back(axis_seed(s, sym, points, f, locator));
+        }
+        py::list out;
+        for (const std::vector<Anchor>& seed : seeds) {
+          py::list anchors;
+          for (const Anchor& a : seed) {
+            std::vector<double> v = list3(s.similarity.to_model(a.point));
+            v.insert(v.end(), a.direction.data(), a.direction.data() + 3);
+            anchors.append(v);
+          }
+          out.append(anchors);
+        }
+        return out;
+      }, py::arg("surface"), py::arg("symmetry"), py::arg("fractions"),
+      "Per clearance fraction, the anchors of one loop beside every point where the rotation's axis meets the surface");
 
   m.def("symmetric_surface", [](const Surface& s, const py::dict& d) {
         const Symmetry sym = normalized_symmetry(s, symmetry_of(d));

@@ -148,7 +148,20 @@ class Design:
         return len(self.strips) - 1
 
     def remove_strip(self, index):
-        del self.strips[index]
+        self.remove_strips(index, 1)
+
+    def remove_strips(self, first, count):
+        """Remove strips first .. first + count - 1. A strip that was the image of a removed
+        one (its "image_of") is an image no longer; later images name their originals anew."""
+        del self.strips[first:first + count]
+        for s in self.strips:
+            original = s.extra.get("image_of")
+            if original is None or original < first:
+                continue
+            if original < first + count:
+                del s.extra["image_of"]
+            else:
+                s.extra["image_of"] = original - count
 
     def edit_strip(self, index, anchors):
         self.strips[index] = Strip(anchors, extra=self.strips[index].extra)

@@ -88,7 +88,7 @@ class DesignSession:
 
     def remove_strips(self, first, count):
         """Remove strips first .. first + count - 1 with one update."""
-        del self.design.strips[first:first + count]
+        self.design.remove_strips(first, count)
         self.update()
 
     def edit_strip(self, index, anchors):

@@ -5,7 +5,8 @@
     syms = resolve(surface, "auto" | "none" | "reflect:0,0,0,1,0,0" | [dict, ...] | None,
                    design_symmetry=[...], tolerance=1e-3)
     parse("rotate:0,0,0,0,0,1,5")                 # a given symmetry as design.md's dict
-    orbit(surface, syms, anchor, loop_points)     # a strip's images on the other parts
+    orbit(surface, syms, anchors, loop_points)    # a strip's images on the other parts
+    axis_seeds(surface, syms)                     # anchors of loops beside a rotation's axis
     add_images(ds, index, syms, tolerance, own_tolerance)   # add strip index's images to a DesignSession
     layout_symmetry_error(layout, sym)            # how far the layout's vertex set is from mapping to itself
 
@@ -142,23 +143,26 @@ def hausdorff(a, b):
     return max(native.image_distance(identity, 0, a, b), native.image_distance(identity, 0, b, a))
 
 
-def orbit(surface, symmetries, anchor, loop_points, tolerance, existing=()):
-    """The images of a strip (its anchor and its loop's points) under the group the
+def orbit(surface, symmetries, anchors, loop_points, tolerance, existing=()):
+    """The images of a strip (its anchors and its loop's points) under the group the
     symmetries generate (each applied in turn to every image so far: for a rotation with a
     mirror through its axis, the whole dihedral orbit), without the strip itself: images
     whose loop lies within `tolerance` of the strip's loop, of an earlier image, or of a loop
     in `existing` are left out (a loop that is its own mirror image needs no copy).
-    Returns ([(anchor, expected loop points)], the largest distance of an image left out as
+    Every anchor is mapped: a loop through two anchors, searched again through the first's
+    image alone, closes wherever is cheapest (a loop beside both ends of a hub's axis, whose
+    images then passed its bottom anywhere).
+    Returns ([(anchors, expected loop points)], the largest distance of an image left out as
     the strip's own loop from that loop: 0 for a loop exactly its own image)."""
-    elements = [(list(anchor), np.asarray(loop_points, dtype=float))]
+    elements = [([list(a) for a in anchors], np.asarray(loop_points, dtype=float))]
     for sym in symmetries:
-        for a, points in list(elements):
-            anchors = native.anchor_images(surface, sym, a)
+        for group, points in list(elements):
+            mapped = [native.anchor_images(surface, sym, a) for a in group]   # per anchor, per k
             for k in range(1, _images(sym) + 1):
-                elements.append((list(anchors[k - 1]), native.map_points(sym, points, k)))
+                elements.append(([list(m[k - 1]) for m in mapped], native.map_points(sym, points, k)))
     kept = [elements[0]]
     own = 0.0     # how far the images that coincide with the strip's own loop are from it
-    for a, points in elements[1:]:
+    for group, points in elements[1:]:
         d = hausdorff(points, elements[0][1])
         if d <= tolerance:
             own = max(own, d)
@@ -166,8 +170,31 @@ def orbit(surface, symmetries, anchor, loop_points, tolerance, existing=()):
         if any(hausdorff(points, p) <= tolerance for _, p in kept[1:]) or \
                 any(hausdorff(points, p) <= tolerance for p in existing):
             continue
-        kept.append((a, points))
+        kept.append((group, points))
     return kept[1:], own
+
+
+def axis_seeds(surface, symmetries, fractions=(0.5, 0.35, 0.65)):
+    """Per rotation among the symmetries and per clearance fraction, the anchors of one loop
+    beside every point where the rotation's axis meets the surface (native axis_seeds,
+    axis_seeds.h): a loop through such a point has its n - 1 images through it too, so the
+    symmetric layout puts a valence-n vertex there, in the n-gon the loop and its images make
+    when it passes beside it. The fractions are of the largest clearance that keeps the
+    n-gon's corners on the smooth cap around the point: the middle first, then nearer and
+    farther (where the images of a chord's ends run down a hub's side too close together,
+    another clearance parts them). Anchor lists in model units; none where the axis misses
+    the surface (a flange's bore, a ring).
+
+    Odd orders only. A rotation of even order holds the half-turn, which maps a chord beside
+    the axis onto the parallel chord across it: the two would be one strip's two sides, and the
+    compatibility mask refuses the image (a screw's half-turn: every such seed refused, 130
+    work units spent). There a loop through the point is what the group keeps: its own image
+    under a half-turn, and crossing its quarter-turn image at right angles."""
+    out = []
+    for sym in symmetries:
+        if sym["kind"] == "rotation" and sym["order"] % 2 == 1:
+            out += [[list(a) for a in seed] for seed in native.axis_seeds(surface, sym, list(fractions)) if seed]
+    return out
 
 
 def image_tolerance(surface):
@@ -178,7 +205,7 @@ def image_tolerance(surface):
 
 
 def add_images(ds, index, symmetries, tolerance, own_tolerance):
-    """Add the images of strip `index` of the DesignSession `ds` (orbit(): its first anchor
+    """Add the images of strip `index` of the DesignSession `ds` (orbit(): its anchors
     mapped and re-projected, its loop searched again there, all in one derivation); images
     that coincide with the strip or a strip before it are left out. Used by the weave and by
     the workbench's design tool, so a strip gets one set of images whoever adds it.
@@ -191,17 +218,17 @@ def add_images(ds, index, symmetries, tolerance, own_tolerance):
     compatibility mask of the strips before it, an asymmetric solver mesh)."""
     strip = ds.strip(index)
     existing = [ds.strip(j)["points"] for j in range(index)]
-    anchor = ds.design.strips[index].anchors[0].to_list()
-    images, own = orbit(ds.surface, symmetries, anchor, strip["points"], tolerance, existing)
-    if own > own_tolerance and len(symmetries) == 1 and symmetries[0]["kind"] == "rotation":
-        images, own = _turned_onto_itself(ds, index, symmetries, anchor, tolerance, existing, (images, own))
+    anchors = [a.to_list() for a in ds.design.strips[index].anchors]
+    images, own = orbit(ds.surface, symmetries, anchors, strip["points"], tolerance, existing)
+    if own > own_tolerance and len(symmetries) == 1 and symmetries[0]["kind"] == "rotation" and len(anchors) == 1:
+        images, own = _turned_onto_itself(ds, index, symmetries, anchors[0], tolerance, existing, (images, own))
     if own > own_tolerance:
         ds.remove_strip(index)
         raise native.InputError(f"the loop is its own symmetric image only to {own:.3g}")
     if not images:
         return 0
     try:
-        ds.add_strips([[a] for a, _ in images], [{"image_of": index} for _ in images])
+        ds.add_strips([group for group, _ in images], [{"image_of": index} for _ in images])
     except native.InputError as e:
         ds.remove_strip(index)
         raise native.InputError(f"a symmetric image is refused by the design ({e})") from None
@@ -241,7 +268,8 @@ def _turned_onto_itself(ds, index, symmetries, anchor, tolerance, existing, befo
         return before
     if best[1] is not current:
         ds.edit_strip(index, [anchor] + best[1])
-    return orbit(ds.surface, symmetries, anchor, ds.strip(index)["points"], tolerance, existing)
+    anchors = [a.to_list() for a in ds.design.strips[index].anchors]
+    return orbit(ds.surface, symmetries, anchors, ds.strip(index)["points"], tolerance, existing)
 
 
 def mean_edge_length(surface):

@@ -387,7 +387,20 @@ def _crease_seed(region):
 
 
 def _key(p):
+    if _anchor_list(p):
+        return tuple(_key(a) for a in p)
     return tuple(round(float(x), 6) for x in p)
+
+
+def _anchor_list(p):
+    """Whether a seed is a list of anchors for one loop (an axis seed: _Weaver.axis_entries)
+    rather than one point (with a direction, or without)."""
+    return len(p) > 0 and isinstance(p[0], (list, tuple))
+
+
+def _seed_point(p):
+    """Where a seed is, for the log: its point, or its first anchor's."""
+    return list(p[0] if _anchor_list(p) else p)[:3]
 
 
 def _say(options, text):
@@ -429,6 +442,28 @@ class _Weaver:
         # A loop that is its own image must be so within the symmetry's tolerance (design.md's 1e-3
         # of the diagonal): the symmetric solver mesh (symmetry.symmetric_surface) makes it exact.
         self.symmetry_tolerance = options.symmetry_tolerance * ds.surface.bbox_diagonal
+        self.axis_seeds = []        # anchor lists of loops beside a rotation's axis (axis_entries)
+        self.axis_placed = False    # one of them gave a strip
+        if options.symmetry:
+            from .symmetry import axis_seeds
+            self.axis_seeds = axis_seeds(ds.surface, options.symmetry)
+
+    def axis_entries(self, a, skip):
+        """The seeds beside a rotation's axis (symmetry.axis_seeds), before every other seed
+        until one gives a strip. Where the axis meets the surface, every loop through the point
+        has its n - 1 images through it too, so the seeds of the region holding it (its centre,
+        mostly the point itself on a part turned about its axis) give loops whose images the
+        design refuses: a five-bladed hub took no strip at all. A loop beside the point, with
+        its images, bounds the n-gon that holds the layout's valence-n vertex there. Judged as
+        a cut while a region is red, else as coverage (the cap around the point lies in no
+        patch until loops cross it)."""
+        if self.axis_placed:
+            return []
+        seeds = [x for x in self.axis_seeds if _key(x) not in skip]
+        if not seeds:
+            return []
+        colour = "red" if a["colours"]["red"] else "patchless"
+        return [("beside the rotation's axis", -1, colour, seeds)]
 
     def spend(self, step, units):
         self.work += units
@@ -610,6 +645,8 @@ class _Weaver:
         one loop of each family of good loops through the point (§5, criterion 1), and the
         one across the rim runs over the faces and through a bore."""
         self.check_cancel()
+        if _anchor_list(point):
+            return self._proposals(point, alternatives)   # the loop through all its anchors
         if len(point) != 3:
             # A direction is a hint of where the loop should leave (across a crease between
             # two of its exits, across a bridge). Where it gives no loop, mostly because the
@@ -648,7 +685,8 @@ class _Weaver:
         try:
             if alternatives <= 1 and len(point) == 3:
                 return [self.session.best_loop(list(point), True)]
-            return list(self.session.loops([list(point)], alternatives, True))
+            anchors = [list(x) for x in point] if _anchor_list(point) else [list(point)]
+            return list(self.session.loops(anchors, alternatives, True))
         except native.InputError:
             return []
         except native.Cancelled:
@@ -681,16 +719,18 @@ class _Weaver:
         return out
 
     def add(self, loop, point):
-        """Add the loop as one directional anchor; None if the design rejects it."""
+        """Add the loop as one directional anchor (an axis seed's loop: through all its anchors,
+        which the loop needs to come back to); None if the design rejects it."""
         self.check_cancel()
-        anchor = native.loop_anchor(self.session, loop, list(point)[:3])
+        anchors = [list(x) for x in point] if _anchor_list(point) else \
+            [native.loop_anchor(self.session, loop, list(point)[:3])]
         if _DEBUG_DESIGN:   # the design about to be derived, for reproducing native failures
             d = self.ds.design.copy()
-            d.add_strip([anchor])
+            d.add_strip(anchors)
             d.save(_DEBUG_DESIGN)
         self.spend("derive", WORK_DERIVE)
         try:
-            index = self.ds.add_strip([anchor])
+            index = self.ds.add_strip(anchors)
         except native.InputError as e:
             _say(self.options, f"  rejected by the design: {e}")
             return None
@@ -1073,7 +1113,7 @@ def _entry(ds, index, reason, region, colour, seed, cost, elapsed, **figures):
     """The log entry of strip `index` just added: why (reason, region, colour, seed point),
     its anchor and loop cost, the figures it changed, when."""
     return {"strip": index, "reason": reason, "region": region, "colour": colour,
-            "seed": [float(x) for x in seed[:3]], "anchor": list(ds.design.strips[index].anchors[0].to_list()),
+            "seed": [float(x) for x in _seed_point(seed)], "anchor": list(ds.design.strips[index].anchors[0].to_list()),
             "cost": cost, **figures, "time_s": round(elapsed(), 3)}
 
 
@@ -1308,7 +1348,7 @@ def _weave(w, ds, options, start=None):
                 a["crossings"] >= (options.patches or options.refine_patches):
             result.stopped = "patch target"
             break
-        seeds = seeds_in_order(a, options, skip)
+        seeds = w.axis_entries(a, skip) + seeds_in_order(a, options, skip)
         if valid and not w.coverage_allowance():
             seeds = [x for x in seeds if x[2] not in COVERAGE]
         if not valid and w.red_again:
@@ -1444,6 +1484,7 @@ def _weave(w, ds, options, start=None):
             w.book_coverage(spent_before)
         if added:
             _record(ds, result, added)
+            w.axis_placed = w.axis_placed or added["reason"] == "beside the rotation's axis"
             continue
         for p in points:      # nothing helped from this region's seeds: do not ask again
             skip.add(_key(p))
