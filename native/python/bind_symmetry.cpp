@@ -14,9 +14,10 @@
 //   rotation's axis meets the surface (axis_seeds.h), model units.
 // axis_seeds(surface, dict, fractions) -> per clearance fraction, the anchors
 //   [[x,y,z,dx,dy,dz], ...] of one loop beside every such point (axis_seed).
-// symmetric_surface(surface, dict) -> Surface: the solver mesh made exactly
-//   symmetric under a reflection or a rotation (symmetric_surface.h,
-//   rotation_surface.h).
+// symmetric_surface(surface, dict, sector_start=[]) -> Surface: the solver
+//   mesh made exactly symmetric under a reflection or a rotation
+//   (symmetric_surface.h, rotation_surface.h; a rotation's sector from
+//   sector_start when given).
 // map_points(dict, points, k=1) -> (n, 3) array: psi^k of the points.
 // image_distance(dict, k, a, b) -> one-sided distance of psi^k(a) from the
 //   polyline b (image_distance.h), model units.
@@ -27,6 +28,7 @@
 #include "stripweave/symmetry/axis_seeds.h"
 #include "stripweave/symmetry/detect_symmetries.h"
 #include "stripweave/symmetry/image_distance.h"
+#include "stripweave/symmetry/rotation_surface.h"
 #include "stripweave/symmetry/symmetric_surface.h"
 #include "stripweave/symmetry/symmetry_error.h"
 
@@ -174,13 +176,19 @@ void bind_symmetry(py::module_& m) {
       }, py::arg("surface"), py::arg("symmetry"), py::arg("fractions"),
       "Per clearance fraction, the anchors of one loop beside every point where the rotation's axis meets the surface");
 
-  m.def("symmetric_surface", [](const Surface& s, const py::dict& d) {
+  m.def("symmetric_surface", [](const Surface& s, const py::dict& d, const std::vector<double>& sector_start) {
         const Symmetry sym = normalized_symmetry(s, symmetry_of(d));
+        if (!sector_start.empty() && (sector_start.size() != 3 || sym.kind != SymmetryKind::Rotation))
+          throw InputError("a sector start is three numbers, for a rotation");
+        const std::optional<Vec3> start =
+            sector_start.empty() ? std::nullopt : std::optional<Vec3>(Vec3(sector_start[0], sector_start[1], sector_start[2]));
         py::gil_scoped_release release;
+        if (start) return std::make_shared<Surface>(rotation_symmetric_surface(s, sym, start));
         return std::make_shared<Surface>(symmetric_surface(s, sym));
-      }, py::arg("surface"), py::arg("symmetry"),
+      }, py::arg("surface"), py::arg("symmetry"), py::arg("sector_start") = std::vector<double>{},
       "The surface with its solver mesh made exactly symmetric under the reflection (one half mirrored) "
-      "or the rotation (one sector turned n times)");
+      "or the rotation (one sector turned n times; sector_start: the direction across the axis where the "
+      "sector starts, else where the cut is quietest)");
 
   m.def("map_points", [](const py::dict& d, const py::handle& points, int k) {
         const Symmetry sym = symmetry_of(d);

@@ -449,13 +449,15 @@ void fill_features(Surface& out, const Surface& s, const Sector& m, const Copies
 
 }  // namespace
 
-Surface rotation_symmetric_surface(const Surface& s, const Symmetry& rot) {
+Surface rotation_symmetric_surface(const Surface& s, const Symmetry& rot, const std::optional<Vec3>& sector_start) {
   if (rot.kind != SymmetryKind::Rotation || rot.order < 2) throw InputError("not a rotation");
   Frame f;
   f.centre = rot.point;
   f.axis = rot.direction.normalized();
   f.snap = 0.1 * mean_edge_length(s);
-  f.start = quiet_start(s, rot, f);
+  const Vec3 across = sector_start ? Vec3(*sector_start - f.axis * f.axis.dot(*sector_start)) : Vec3::Zero();
+  if (sector_start && !(across.norm() > 1e-9)) throw InputError("a sector's start must point across the axis");
+  f.start = sector_start ? Vec3(across.normalized()) : quiet_start(s, rot, f);
   f.end = rot.map_direction(f.start);
   std::vector<Index> partner;
   const Sector m = sector_of(s, rot, f, partner);

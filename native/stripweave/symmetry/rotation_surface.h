@@ -29,8 +29,17 @@
 #include "stripweave/surface/surface.h"
 #include "stripweave/symmetry/symmetry.h"
 
+#include <optional>
+
 namespace stripweave {
 
-Surface rotation_symmetric_surface(const Surface& surface, const Symmetry& rotation);
+// sector_start, when given (a direction across the axis): the sector starts
+// there instead of where the cut is quietest. A dihedral group's sector runs
+// between two of its mirror planes' neighbours, from -pi/n to pi/n about one
+// mirror, so that on a mesh already exact under that mirror the sector is its
+// own mirror image and the n copies are exact under every mirror of the group
+// (the seam at -pi/n mirrored is the seam at pi/n, as the rotation maps it).
+Surface rotation_symmetric_surface(const Surface& surface, const Symmetry& rotation,
+                                   const std::optional<Vec3>& sector_start = std::nullopt);
 
 }  // namespace stripweave
