@@ -104,13 +104,22 @@ def resolve(surface, spec, design_symmetry=None, tolerance=1e-3):
     return dihedral(surface, out)
 
 
+def _unit(v):
+    v = np.asarray(v, float)
+    return v / np.linalg.norm(v)
+
+
+def _cos_to_axis(mirror, rotation):
+    """|cos| of the angle between a reflection's normal and a rotation's axis: 0 for a plane
+    that holds the axis's direction, 1 for one across it."""
+    return abs(float(_unit(mirror["normal"]) @ _unit(rotation["axis"])))
+
+
 def _axial(mirror, rotation, surface):
     """Whether a reflection's plane holds the rotation's axis (to a thousandth of the
     diagonal over the part, a thousandth of a radian)."""
-    a, n = np.asarray(rotation["axis"], float), np.asarray(mirror["normal"], float)
-    a, n = a / np.linalg.norm(a), n / np.linalg.norm(n)
-    off = abs(float(n @ (np.asarray(rotation["point"], float) - np.asarray(mirror["point"], float))))
-    return abs(float(n @ a)) < 1e-3 and off < 1e-3 * surface.bbox_diagonal
+    off = abs(float(_unit(mirror["normal"]) @ (np.asarray(rotation["point"], float) - np.asarray(mirror["point"], float))))
+    return _cos_to_axis(mirror, rotation) < 1e-3 and off < 1e-3 * surface.bbox_diagonal
 
 
 def _turned(v, axis, angle):
@@ -130,22 +139,19 @@ def dihedral(surface, symmetries):
     if len(rotations) != 1 or rotations[0]["order"] < 3:
         return symmetries
     rot = rotations[0]
-    a = np.asarray(rot["axis"], float)
-    a /= np.linalg.norm(a)
+    a = _unit(rot["axis"])
     first, out = None, []
     for sym in symmetries:
         if sym["kind"] == "reflection" and _axial(sym, rot, surface):
             n = np.asarray(sym["normal"], float)
-            n = n - a * float(a @ n)
-            n /= np.linalg.norm(n)
+            n = _unit(n - a * float(a @ n))
             if first is None:
                 first = n
             else:
                 step = math.pi / rot["order"]
                 angle = math.atan2(float(np.cross(first, n) @ a), float(first @ n))
                 n = _turned(first, a, step * round(angle / step))
-            sym = {**measure(surface, {**sym, "point": list(rot["point"]), "normal": n.tolist()}),
-                   "source": sym.get("source", "given")}
+            sym = measure(surface, {**sym, "point": list(rot["point"]), "normal": n.tolist()})
         out.append(sym)
     return out
 
@@ -165,14 +171,12 @@ def mesh_symmetries(symmetries):
     rotations = [s for s in symmetries if s["kind"] == "rotation"]
     if len(rotations) == 1 and rotations[0]["order"] >= 3 and mirrors:
         rot = rotations[0]
-        a = np.asarray(rot["axis"], float)
-        a /= np.linalg.norm(a)
-        axial = [m for m in mirrors if abs(float(np.asarray(m["normal"], float) @ a)) < 1e-6]
-        across = [m for m in mirrors if abs(abs(float(np.asarray(m["normal"], float) @ a))
-                                            - np.linalg.norm(m["normal"])) < 1e-6]
+        # dihedral() made the planes through the axis hold it exactly.
+        axial = [m for m in mirrors if _cos_to_axis(m, rot) < 1e-6]
+        across = [m for m in mirrors if _cos_to_axis(m, rot) > 1 - 1e-6]
         if axial and len(axial) + len(across) == len(mirrors):
-            along = np.cross(a, np.asarray(axial[0]["normal"], float))
-            start = _turned(along / np.linalg.norm(along), a, -math.pi / rot["order"])
+            a = _unit(rot["axis"])
+            start = _turned(_unit(np.cross(a, axial[0]["normal"])), a, -math.pi / rot["order"])
             return across + [axial[0], {**rot, "sector_start": start.tolist()}]
     if mirrors:
         return mirrors

@@ -646,7 +646,9 @@ class _Weaver:
         one across the rim runs over the faces and through a bore."""
         self.check_cancel()
         if _anchor_list(point):
-            return self._proposals(point, alternatives)   # the loop through all its anchors
+            # The loop through all its anchors, the best only: a strip keeps the anchors, and
+            # deriving them gives the best loop, whichever ranked alternative was judged.
+            return self._proposals(point, 1)
         if len(point) != 3:
             # A direction is a hint of where the loop should leave (across a crease between
             # two of its exits, across a bridge). Where it gives no loop, mostly because the
@@ -683,10 +685,11 @@ class _Weaver:
         watchdog = threading.Timer(self.options.query_timeout_s, self.session.cancel)
         watchdog.start()
         try:
+            if _anchor_list(point):
+                return list(self.session.loops([list(x) for x in point], alternatives, True))
             if alternatives <= 1 and len(point) == 3:
                 return [self.session.best_loop(list(point), True)]
-            anchors = [list(x) for x in point] if _anchor_list(point) else [list(point)]
-            return list(self.session.loops(anchors, alternatives, True))
+            return list(self.session.loops([list(point)], alternatives, True))
         except native.InputError:
             return []
         except native.Cancelled:

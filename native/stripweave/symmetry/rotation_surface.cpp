@@ -65,18 +65,8 @@ Sector cut(const Sector& in, const Frame& f, const Vec3& normal, const Vec3& hal
     crossing.emplace(key, v);
     return v;
   };
-  for (const Tri& tri : in.triangles) {
-    bool positive = false, negative = false;
-    for (Index v : tri) positive |= d[v] > 0, negative |= d[v] < 0;
-    if (!positive) continue;
-    std::vector<Index> poly;
-    for (int i = 0; i < 3; ++i) {
-      const Index a = tri[i], b = tri[(i + 1) % 3];
-      if (d[a] >= 0) poly.push_back(vertex(a));
-      if (negative && ((d[a] > 0 && d[b] < 0) || (d[a] < 0 && d[b] > 0))) poly.push_back(cross(a, b));
-    }
-    for (std::size_t i = 1; i + 1 < poly.size(); ++i) out.triangles.push_back({poly[0], poly[i], poly[i + 1]});
-  }
+  for (const Tri& tri : in.triangles)
+    clip_triangle(tri, d, vertex, cross, [&](Index a, Index b, Index c) { out.triangles.push_back({a, b, c}); });
   return out;
 }
 

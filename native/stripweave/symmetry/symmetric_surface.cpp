@@ -62,25 +62,11 @@ Half cut_half(const Surface& s, const Symmetry& m) {
     cut.emplace(key, v);
     return v;
   };
-  for (Index t = 0; t < s.mesh.num_triangles(); ++t) {
-    const Tri& tri = s.mesh.triangles[t];
-    bool any_positive = false, any_negative = false;
-    for (Index v : tri) {
-      any_positive |= d[v] > 0;
-      any_negative |= d[v] < 0;
-    }
-    if (!any_positive) continue;
-    std::vector<Index> poly;
-    for (int i = 0; i < 3; ++i) {
-      const Index a = tri[i], b = tri[(i + 1) % 3];
-      if (d[a] >= 0) poly.push_back(vertex(a));
-      if (any_negative && ((d[a] > 0 && d[b] < 0) || (d[a] < 0 && d[b] > 0))) poly.push_back(crossing(a, b));
-    }
-    for (std::size_t i = 1; i + 1 < poly.size(); ++i) {
-      h.triangles.push_back({poly[0], poly[i], poly[i + 1]});
+  for (Index t = 0; t < s.mesh.num_triangles(); ++t)
+    clip_triangle(s.mesh.triangles[t], d, vertex, crossing, [&](Index a, Index b, Index c) {
+      h.triangles.push_back({a, b, c});
       h.source_triangle.push_back(t);
-    }
-  }
+    });
   return h;
 }
 
