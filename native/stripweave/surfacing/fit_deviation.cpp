@@ -41,54 +41,66 @@ struct PatchMesh {
   double max_chord = 0;
 };
 
+using GridCells = std::array<int, 2>;  // {nu, nv}
+
 // The triangles of the grids, each cut to at most cap x cap cells.
-size_t triangles_under_cap(const std::vector<PatchGrid>& grids, int cap) {
+size_t triangles_under_cap(const std::vector<GridCells>& cells, int cap) {
   size_t n = 0;
-  for (const PatchGrid& g : grids) n += 2 * size_t(std::min(g.nu, cap)) * size_t(std::min(g.nv, cap));
+  for (const GridCells& c : cells) n += 2 * size_t(std::min(c[0], cap)) * size_t(std::min(c[1], cap));
   return n;
 }
 
 // Within max_triangles: the largest per-direction cell count c for which the
-// grids, each cut to at most c x c cells, fit; the cut grids are made again.
+// grids, each cut to at most c x c cells, fit; every grid is cut to it.
 // Patches that need fewer cells keep theirs: the coarsening falls on the
 // patches that ripple most, whose deviation is farthest above any tolerance.
-void cap_tessellation(const std::vector<BSplinePatch>& patches, std::vector<PatchGrid>& coarse, size_t max_triangles) {
-  if (triangles_under_cap(coarse, kMaxGridSamples) <= max_triangles) return;
+void cap_cells(std::vector<GridCells>& cells, size_t max_triangles) {
+  if (triangles_under_cap(cells, kMaxGridSamples) <= max_triangles) return;
   int lo = 1, hi = kMaxGridSamples;  // triangles_under_cap(lo) fits (or lo = 1), hi does not
   while (hi - lo > 1) {
     const int mid = (lo + hi) / 2;
-    (triangles_under_cap(coarse, mid) <= max_triangles ? lo : hi) = mid;
+    (triangles_under_cap(cells, mid) <= max_triangles ? lo : hi) = mid;
   }
-  parallel_for(static_cast<Index>(coarse.size()), [&](Index p) {
-    PatchGrid& g = coarse[p];
-    if (g.nu > lo || g.nv > lo) g = patch_grid_of_size(patches[p], std::min(g.nu, lo), std::min(g.nv, lo));
-  });
+  for (GridCells& c : cells) c = {std::min(c[0], lo), std::min(c[1], lo)};
 }
 
-// The samples: per patch a grid of `per_span` samples per span, spaced at most
-// `spacing`. The tessellation for nearest-point queries: a grid only as fine
+// The tessellation for nearest-point queries: per patch a grid only as fine
 // as the chordal error asks (2 per span at least), within max_triangles
-// (cap_tessellation).
-PatchMesh patch_mesh(const std::vector<BSplinePatch>& patches, double spacing, double chord, int per_span,
-                     Index max_triangles, std::vector<PatchGrid>& grids) {
+// (cap_cells). The grids are sized first and made once, at their capped
+// size: a network far off its source asks for ten times the cap (0088's
+// 86 patches: 580 MB of grids, the refit's peak, when they were made as the
+// chord asked and then cut).
+PatchMesh patch_tessellation(const std::vector<BSplinePatch>& patches, double chord, Index max_triangles) {
   const Index nP = static_cast<Index>(patches.size());
-  grids.assign(nP, {});
-  std::vector<PatchGrid> coarse(nP);
-  parallel_for(nP, [&](Index p) {
-    grids[p] = patch_grid(patches[p], spacing, 0.0, per_span);
-    coarse[p] = patch_grid(patches[p], 0.0, chord, 2);
-  });
-  cap_tessellation(patches, coarse, static_cast<size_t>(std::max<Index>(max_triangles, 2 * nP)));
-  PatchMesh out;
+  std::vector<GridCells> cells(nP);
+  parallel_for(nP, [&](Index p) { cells[p] = patch_grid_cells(patches[p], 0.0, chord, 2); });
+  cap_cells(cells, static_cast<size_t>(std::max<Index>(max_triangles, 2 * nP)));
+  std::vector<size_t> first_vertex(nP + 1, 0), first_triangle(nP + 1, 0);
   for (Index p = 0; p < nP; ++p) {
-    const PatchGrid& g = coarse[p];
-    const Index base = out.mesh.num_vertices();
-    out.mesh.positions.insert(out.mesh.positions.end(), g.points.begin(), g.points.end());
-    out.uv.insert(out.uv.end(), g.uv.begin(), g.uv.end());
-    for (const Tri& t : g.triangles) out.mesh.triangles.push_back({base + t[0], base + t[1], base + t[2]});
-    out.patch.insert(out.patch.end(), g.triangles.size(), p);
-    out.max_chord = std::max(out.max_chord, g.max_chord);
+    first_vertex[p + 1] = first_vertex[p] + size_t(cells[p][0] + 1) * size_t(cells[p][1] + 1);
+    first_triangle[p + 1] = first_triangle[p] + 2 * size_t(cells[p][0]) * size_t(cells[p][1]);
   }
+  PatchMesh out;
+  out.mesh.positions.resize(first_vertex[nP]);
+  out.uv.resize(first_vertex[nP]);
+  out.mesh.triangles.resize(first_triangle[nP]);
+  out.patch.resize(first_triangle[nP]);
+  std::vector<double> chords(nP, 0.0);
+  // Each patch's grid is written into its own range and dropped: one grid
+  // per worker is held beside the mesh, never all of them.
+  parallel_for(nP, [&](Index p) {
+    const PatchGrid g = patch_grid_of_size(patches[p], cells[p][0], cells[p][1]);
+    const Index base = static_cast<Index>(first_vertex[p]);
+    std::copy(g.points.begin(), g.points.end(), out.mesh.positions.begin() + first_vertex[p]);
+    std::copy(g.uv.begin(), g.uv.end(), out.uv.begin() + first_vertex[p]);
+    for (size_t t = 0; t < g.triangles.size(); ++t) {
+      const Tri& f = g.triangles[t];
+      out.mesh.triangles[first_triangle[p] + t] = {base + f[0], base + f[1], base + f[2]};
+    }
+    std::fill(out.patch.begin() + first_triangle[p], out.patch.begin() + first_triangle[p + 1], p);
+    chords[p] = g.max_chord;
+  });
+  for (double c : chords) out.max_chord = std::max(out.max_chord, c);
   return out;
 }
 
@@ -158,25 +170,25 @@ FitDeviation fit_deviation(const Surface& surface, const std::vector<BSplinePatc
 
   const SourceSamples S = sample_source(surface, h, chord);
   watch.lap("source_samples");
-  std::vector<PatchGrid> grids;
-  const PatchMesh P = patch_mesh(patches, h, chord, std::max(1, options.samples_per_span / 2),
-                                 options.max_patch_triangles, grids);
-  watch.lap("patch_samples");
-  out.source_chord = S.max_chord, out.patch_chord = P.max_chord;
-  out.patch_triangles = P.mesh.num_triangles();
   const BrepSource* brep = surface.brep && !S.face.empty() ? surface.brep.get() : nullptr;
-  // Chordal bounds of both tessellations (see the header).
-  const double eps_patches = 1.5 * P.max_chord;
   const double eps_source = brep ? std::max(1.5 * S.max_chord, 2 * chord) : 0.0;
-  out.measurement_error = 2 * std::max(eps_patches, eps_source);
+  out.source_chord = S.max_chord;
   out.unmeshed_faces = S.unmeshed_faces;
-  if (nP == 0) return out;
 
-  // Source -> patches.
+  // Source -> patches. The tessellation and its tree live in this block only:
+  // the patch samples below are made after they are gone, so that the two
+  // largest parts of the measurement never sit in memory together.
   const size_t nS = S.points.size();
   std::vector<double> ds(nS, 0.0);
   std::vector<Index> owner(nS, 0);
   {
+    const PatchMesh P = patch_tessellation(patches, chord, options.max_patch_triangles);
+    watch.lap("patch_tessellation");
+    out.patch_chord = P.max_chord;
+    out.patch_triangles = P.mesh.num_triangles();
+    // Chordal bounds of both tessellations (see the header).
+    out.measurement_error = 2 * std::max(1.5 * P.max_chord, eps_source);
+    if (nP == 0) return out;
     const SurfaceLocator locator(P.mesh);
     watch.lap("patch_tree");
     parallel_for(blocks_of(nS), [&](Index b) {
@@ -191,7 +203,6 @@ FitDeviation fit_deviation(const Surface& surface, const std::vector<BSplinePatc
       }
     });
   }
-
   watch.lap("source_to_patches");
   // Patches -> source, in two passes: every patch at half the samples per
   // span, then at the full density around every sample within 0.7 of the
@@ -199,6 +210,10 @@ FitDeviation fit_deviation(const Surface& surface, const std::vector<BSplinePatc
   // samples shows at least cos(pi / 4) = 0.71 of its peak at one of them, so
   // no bump that could top the largest is left out): each patch's maximum as
   // if sampled at the full density, at a fraction of the cost.
+  std::vector<PatchGrid> grids(nP);
+  const int per_span = std::max(1, options.samples_per_span / 2);
+  parallel_for(nP, [&](Index p) { grids[p] = patch_sample_grid(patches[p], h, per_span); });
+  watch.lap("patch_samples");
   const SurfaceLocator source_locator(S.mesh);
   std::vector<std::shared_ptr<BrepSource>> copies(parallel_workers(Index(1) << 20));
   if (brep)

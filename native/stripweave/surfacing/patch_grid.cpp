@@ -20,10 +20,14 @@ double control_length(const BSplinePatch& p, int d) {
   return longest;
 }
 
-PatchGrid grid_of(const BSplinePatch& patch, int nu, int nv, bool chords) {
+// chords: measure max_chord (the triangles are made); triangles: make them.
+PatchGrid grid_of(const BSplinePatch& patch, int nu, int nv, bool chords, bool triangles = true) {
   PatchGrid g;
   g.nu = nu, g.nv = nv;
   const double du = 1.0 / nu, dv = 1.0 / nv;
+  const size_t nodes = size_t(nu + 1) * size_t(nv + 1);
+  g.uv.reserve(nodes), g.points.reserve(nodes), g.weight.reserve(nodes);
+  if (chords || triangles) g.triangles.reserve(2 * size_t(nu) * size_t(nv));
   for (int i = 0; i <= nu; ++i)
     for (int j = 0; j <= nv; ++j) {
       const Vec2 uv(i * du, j * dv);
@@ -34,6 +38,7 @@ PatchGrid grid_of(const BSplinePatch& patch, int nu, int nv, bool chords) {
       g.points.push_back(S);
       g.weight.push_back(Su.cross(Sv).norm() * du * dv * ci * cj);
     }
+  if (!chords && !triangles) return g;
   auto id = [nv](int i, int j) { return Index(i * (nv + 1) + j); };
   auto add = [&](Index a, Index b, Index c) {
     g.triangles.push_back({a, b, c});
@@ -50,9 +55,9 @@ PatchGrid grid_of(const BSplinePatch& patch, int nu, int nv, bool chords) {
   return g;
 }
 
-}  // namespace
-
-PatchGrid patch_grid(const BSplinePatch& patch, double spacing, double chord, int per_span) {
+// The cell counts along u and v for `per_span` samples per span and at most
+// `spacing` between them (before any chordal refinement).
+std::array<int, 2> sample_cells(const BSplinePatch& patch, double spacing, int per_span) {
   auto count = [&](int spans, int d) {
     double n = per_span * spans;
     if (spacing > 0) {
@@ -61,7 +66,13 @@ PatchGrid patch_grid(const BSplinePatch& patch, double spacing, double chord, in
     }
     return std::clamp(static_cast<int>(n), 1, kMaxGridSamples);
   };
-  int nu = count(patch.nu, 0), nv = count(patch.nv, 1);
+  return {count(patch.nu, 0), count(patch.nv, 1)};
+}
+
+}  // namespace
+
+PatchGrid patch_grid(const BSplinePatch& patch, double spacing, double chord, int per_span) {
+  auto [nu, nv] = sample_cells(patch, spacing, per_span);
   PatchGrid g = grid_of(patch, nu, nv, chord > 0);
   for (int round = 0; round < 3 && chord > 0 && g.max_chord > chord && (nu < kMaxGridSamples || nv < kMaxGridSamples); ++round) {
     const double grow = 1.1 * std::sqrt(g.max_chord / chord);
@@ -70,6 +81,16 @@ PatchGrid patch_grid(const BSplinePatch& patch, double spacing, double chord, in
     g = grid_of(patch, nu, nv, true);
   }
   return g;
+}
+
+std::array<int, 2> patch_grid_cells(const BSplinePatch& patch, double spacing, double chord, int per_span) {
+  const PatchGrid g = patch_grid(patch, spacing, chord, per_span);
+  return {g.nu, g.nv};
+}
+
+PatchGrid patch_sample_grid(const BSplinePatch& patch, double spacing, int per_span) {
+  const auto [nu, nv] = sample_cells(patch, spacing, per_span);
+  return grid_of(patch, nu, nv, false, false);
 }
 
 PatchGrid patch_grid_of_size(const BSplinePatch& patch, int nu, int nv) {

@@ -24,6 +24,8 @@
 
 #include "stripweave/surfacing/bspline.h"
 
+#include <array>
+
 namespace stripweave {
 
 constexpr int kMaxGridSamples = 200;
@@ -39,7 +41,17 @@ struct PatchGrid {
 
 PatchGrid patch_grid(const BSplinePatch& patch, double spacing, double chord, int per_span = 8);
 
+// The nodes of patch_grid(patch, spacing, 0, per_span) (uv, points and
+// weights) without its triangles: samples to measure from, at two thirds of
+// the memory (the deviation holds them for every patch at once).
+PatchGrid patch_sample_grid(const BSplinePatch& patch, double spacing, int per_span = 8);
+
 // The grid of exactly nu x nv cells (each at least 1), its max_chord measured.
 PatchGrid patch_grid_of_size(const BSplinePatch& patch, int nu, int nv);
+
+// The cell counts {nu, nv} patch_grid would give, without keeping its grid:
+// a caller that sizes many grids before making them (fit_deviation's cap)
+// holds one grid at a time instead of all of them.
+std::array<int, 2> patch_grid_cells(const BSplinePatch& patch, double spacing, double chord, int per_span = 8);
 
 }  // namespace stripweave
