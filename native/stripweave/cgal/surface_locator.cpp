@@ -48,13 +48,15 @@ using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, MeshTriangle>>;
 struct SurfaceLocator::Impl {
   const TriangleMesh& mesh;
   Tree tree;
-  explicit Impl(const TriangleMesh& m) : mesh(m) {
+  Impl(const TriangleMesh& m, bool accelerate) : mesh(m) {
     tree.insert(boost::counting_iterator<Index>(0), boost::counting_iterator<Index>(m.num_triangles()), &mesh);
-    tree.accelerate_distance_queries();
+    if (accelerate) tree.accelerate_distance_queries();
+    else tree.do_not_accelerate_distance_queries(), tree.build();
   }
 };
 
-SurfaceLocator::SurfaceLocator(const TriangleMesh& mesh) : impl_(std::make_unique<Impl>(mesh)) {}
+SurfaceLocator::SurfaceLocator(const TriangleMesh& mesh, bool accelerate)
+    : impl_(std::make_unique<Impl>(mesh, accelerate)) {}
 SurfaceLocator::~SurfaceLocator() = default;
 
 namespace {

@@ -30,7 +30,11 @@ constexpr double kMaxQueryCoordinate = 1e100;
 
 class SurfaceLocator {
  public:
-  explicit SurfaceLocator(const TriangleMesh& mesh);
+  // accelerate: a k-d tree of the triangles' reference points answers a
+  // query without a hint (CGAL's accelerate_distance_queries, some 40 bytes
+  // a triangle); without it a query without a hint starts from an arbitrary
+  // triangle (slower, the same answer), which suits callers that pass hints.
+  explicit SurfaceLocator(const TriangleMesh& mesh, bool accelerate = true);
   ~SurfaceLocator();
   SurfacePoint3 closest(const Vec3& p) const;
   SurfacePoint3 closest(const Vec3& p, const SurfacePoint3& hint) const;

@@ -189,7 +189,7 @@ FitDeviation fit_deviation(const Surface& surface, const std::vector<BSplinePatc
     // Chordal bounds of both tessellations (see the header).
     out.measurement_error = 2 * std::max(1.5 * P.max_chord, eps_source);
     if (nP == 0) return out;
-    const SurfaceLocator locator(P.mesh);
+    const SurfaceLocator locator(P.mesh, false);  // every query but a block's first has a hint
     watch.lap("patch_tree");
     parallel_for(blocks_of(nS), [&](Index b) {
       const size_t end = std::min(nS, size_t(b + 1) * kBlock);
@@ -214,7 +214,7 @@ FitDeviation fit_deviation(const Surface& surface, const std::vector<BSplinePatc
   const int per_span = std::max(1, options.samples_per_span / 2);
   parallel_for(nP, [&](Index p) { grids[p] = patch_sample_grid(patches[p], h, per_span); });
   watch.lap("patch_samples");
-  const SurfaceLocator source_locator(S.mesh);
+  const SurfaceLocator source_locator(S.mesh, false);  // queries in patch order, hinted
   std::vector<std::shared_ptr<BrepSource>> copies(parallel_workers(Index(1) << 20));
   if (brep)
     for (auto& c : copies) c = brep->thread_copy();
