@@ -153,6 +153,13 @@ std::shared_ptr<BrepSource> BrepSource::thread_copy() const {
   return std::shared_ptr<BrepSource>(new BrepSource(std::move(impl)));
 }
 
+void BrepSource::release_caches() const {
+  Impl& s = *impl_;
+  for (auto& a : s.analysers) a.reset();
+  for (auto& c : s.classifiers) c.reset();
+  for (auto& a : s.adaptors) a.reset();
+}
+
 void BrepSource::forget_warm_starts() const { std::fill(impl_->has_last_uv.begin(), impl_->has_last_uv.end(), 0); }
 
 const std::vector<std::string>& BrepSource::warnings() const { return impl_->warnings; }

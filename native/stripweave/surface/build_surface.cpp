@@ -345,6 +345,8 @@ Surface surface_from_brep(std::shared_ptr<const BrepSource> brep, const SurfaceO
     curvature_defined[v] = 1;
   });
   fill_undefined_curvature(s, std::move(curvature_defined));
+  copies.clear();
+  brep->release_caches();  // the loop's analysers: the later stages project elsewhere, or anew
   clock.lap("curvature");
 
   stage(progress, "chaining feature curves", 0.95, 1.0);
