@@ -22,11 +22,12 @@ STAGE_PEAKS_ENV = "STRIPWEAVE_STAGE_PEAKS"
 
 
 def peak_memory_mb():
-    """Peak resident memory of this process (or of its largest child, if that was larger), in
-    MB: what the weave needed at its heaviest (Linux reports ru_maxrss in kB). Both are
-    maxima, so they are not added."""
-    kb = max(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss, resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)
-    return round(kb / 1024.0, 1)
+    """Peak resident memory of this process, in MB: what the weave needed at its heaviest
+    (Linux reports ru_maxrss in kB). Its children's are not counted: the job starts none, and
+    RUSAGE_CHILDREN survives exec, so a job exec'd by a shell that had waited for something
+    larger inherited that figure (the README's first command: the compiler's 1.2 GB of
+    `.ci/setup` became the handle's peak)."""
+    return round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0, 1)
 
 
 def resident_memory_mb():
