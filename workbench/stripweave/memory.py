@@ -22,11 +22,15 @@ STAGE_PEAKS_ENV = "STRIPWEAVE_STAGE_PEAKS"
 
 
 def peak_memory_mb():
-    """Peak resident memory of this process, in MB: what the weave needed at its heaviest
-    (Linux reports ru_maxrss in kB). Its children's are not counted: the job starts none, and
-    RUSAGE_CHILDREN survives exec, so a job exec'd by a shell that had waited for something
-    larger inherited that figure (the README's first command: the compiler's 1.2 GB of
-    `.ci/setup` became the handle's peak)."""
+    """Peak resident memory of this process image, in MB: what the weave needed at its
+    heaviest. Linux's VmHWM, which starts afresh at exec; getrusage's ru_maxrss (the fallback
+    without /proc) does not: RUSAGE_SELF keeps the high-water mark of the image before exec
+    (a fork of a large parent: the test suite's 845 MB) and RUSAGE_CHILDREN that of every
+    child the process waited for before it (the README's first command: `.ci/setup`'s
+    compiler, 1.2 GB, became the handle's peak). The job starts no child of its own."""
+    hwm = _high_water_mb()
+    if hwm is not None:
+        return hwm
     return round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0, 1)
 
 
