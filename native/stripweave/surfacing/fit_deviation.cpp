@@ -9,6 +9,7 @@
 #include "stripweave/surfacing/source_samples.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <memory>
 
@@ -66,15 +67,28 @@ void cap_cells(std::vector<GridCells>& cells, size_t max_triangles) {
 
 // The tessellation for nearest-point queries: per patch a grid only as fine
 // as the chordal error asks (2 per span at least), within max_triangles
-// (cap_cells). The grids are sized first and made once, at their capped
-// size: a network far off its source asks for ten times the cap (0088's
-// 86 patches: 580 MB of grids, the refit's peak, when they were made as the
-// chord asked and then cut).
+// (cap_cells). The grids are kept as made while their total stays within the
+// cap (then the cap does not bind and they are the tessellation); past it
+// they are dropped as made and made again at their capped size, so at most
+// the cap's worth of grids is ever held (a network far off its source asks
+// for ten times the cap: 0088's 86 patches, 580 MB of grids when all were
+// held and then cut).
 PatchMesh patch_tessellation(const std::vector<BSplinePatch>& patches, double chord, Index max_triangles) {
   const Index nP = static_cast<Index>(patches.size());
+  const size_t cap = static_cast<size_t>(std::max<Index>(max_triangles, 2 * nP));
   std::vector<GridCells> cells(nP);
-  parallel_for(nP, [&](Index p) { cells[p] = patch_grid_cells(patches[p], 0.0, chord, 2); });
-  cap_cells(cells, static_cast<size_t>(std::max<Index>(max_triangles, 2 * nP)));
+  std::vector<PatchGrid> made(nP);
+  std::atomic<size_t> total{0};
+  parallel_for(nP, [&](Index p) {
+    PatchGrid g = patch_grid(patches[p], 0.0, chord, 2);
+    cells[p] = {g.nu, g.nv};
+    if ((total += g.triangles.size()) <= cap) made[p] = std::move(g);
+  });
+  const bool capped = total > cap;
+  if (capped) {
+    std::vector<PatchGrid>().swap(made);
+    cap_cells(cells, cap);
+  }
   std::vector<size_t> first_vertex(nP + 1, 0), first_triangle(nP + 1, 0);
   for (Index p = 0; p < nP; ++p) {
     first_vertex[p + 1] = first_vertex[p] + size_t(cells[p][0] + 1) * size_t(cells[p][1] + 1);
@@ -86,10 +100,9 @@ PatchMesh patch_tessellation(const std::vector<BSplinePatch>& patches, double ch
   out.mesh.triangles.resize(first_triangle[nP]);
   out.patch.resize(first_triangle[nP]);
   std::vector<double> chords(nP, 0.0);
-  // Each patch's grid is written into its own range and dropped: one grid
-  // per worker is held beside the mesh, never all of them.
+  // Each patch's grid is written into its own range and dropped.
   parallel_for(nP, [&](Index p) {
-    const PatchGrid g = patch_grid_of_size(patches[p], cells[p][0], cells[p][1]);
+    PatchGrid g = capped ? patch_grid_of_size(patches[p], cells[p][0], cells[p][1]) : std::move(made[p]);
     const Index base = static_cast<Index>(first_vertex[p]);
     std::copy(g.points.begin(), g.points.end(), out.mesh.positions.begin() + first_vertex[p]);
     std::copy(g.uv.begin(), g.uv.end(), out.uv.begin() + first_vertex[p]);

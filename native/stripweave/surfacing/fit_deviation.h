@@ -55,9 +55,9 @@
 //         cap the patches that need the most cells are coarsened first (one
 //         cell count c bounds every patch's grid per direction, the largest
 //         c that fits); the chord they then have enters measurement_error.
-//         Each grid is first sized as the chord asks (and dropped), then
-//         made once under the cap: repeated evaluation, but no more than one
-//         grid per thread is held beside the tessellation.
+//         Grids are kept as made while their total fits the cap; past it
+//         they are made again under the cap (repeated evaluation), and no
+//         more than the cap's worth of grids is held at any time.
 // Threads Samples are measured side by side (core/parallel.h), each into its
 //         own slot, with per-thread B-rep copies; sums run in sample order,
 //         so the figures do not depend on the thread count.

@@ -118,12 +118,12 @@ void solve_interiors(std::vector<BSplinePatch>& patches, const std::vector<Patch
             if (i2 < 0 || j2 < 0 || i2 >= P.rows() || j2 >= P.cols()) continue;
             const double a = sys.at(i, j, di, dj);
             if (a == 0) continue;
-            if (is_free(P, i2, j2)) {
-              const Index c = gid(p, i2, j2);
-              if (c <= r) trip.emplace_back(r, c, a);  // the lower triangle (see below)
-            }
-            else
+            if (!is_free(P, i2, j2)) {
               rhs.row(r) -= a * P.P(i2, j2).transpose();  // boundary rows are known
+              continue;
+            }
+            const Index c = gid(p, i2, j2);
+            if (c <= r) trip.emplace_back(r, c, a);  // the lower triangle (see below)
           }
       }
   }

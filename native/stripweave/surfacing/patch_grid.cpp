@@ -20,14 +20,14 @@ double control_length(const BSplinePatch& p, int d) {
   return longest;
 }
 
-// chords: measure max_chord (the triangles are made); triangles: make them.
-PatchGrid grid_of(const BSplinePatch& patch, int nu, int nv, bool chords, bool triangles = true) {
+// mesh: also the triangles, and max_chord measured over them; else the nodes only.
+PatchGrid grid_of(const BSplinePatch& patch, int nu, int nv, bool mesh) {
   PatchGrid g;
   g.nu = nu, g.nv = nv;
   const double du = 1.0 / nu, dv = 1.0 / nv;
   const size_t nodes = size_t(nu + 1) * size_t(nv + 1);
   g.uv.reserve(nodes), g.points.reserve(nodes), g.weight.reserve(nodes);
-  if (chords || triangles) g.triangles.reserve(2 * size_t(nu) * size_t(nv));
+  if (mesh) g.triangles.reserve(2 * size_t(nu) * size_t(nv));
   for (int i = 0; i <= nu; ++i)
     for (int j = 0; j <= nv; ++j) {
       const Vec2 uv(i * du, j * dv);
@@ -38,11 +38,10 @@ PatchGrid grid_of(const BSplinePatch& patch, int nu, int nv, bool chords, bool t
       g.points.push_back(S);
       g.weight.push_back(Su.cross(Sv).norm() * du * dv * ci * cj);
     }
-  if (!chords && !triangles) return g;
+  if (!mesh) return g;
   auto id = [nv](int i, int j) { return Index(i * (nv + 1) + j); };
   auto add = [&](Index a, Index b, Index c) {
     g.triangles.push_back({a, b, c});
-    if (!chords) return;
     const Vec2 q = (g.uv[a] + g.uv[b] + g.uv[c]) / 3;
     const Vec3 flat = (g.points[a] + g.points[b] + g.points[c]) / 3;
     g.max_chord = std::max(g.max_chord, (patch.value(q.x(), q.y()) - flat).norm());
@@ -73,7 +72,7 @@ std::array<int, 2> sample_cells(const BSplinePatch& patch, double spacing, int p
 
 PatchGrid patch_grid(const BSplinePatch& patch, double spacing, double chord, int per_span) {
   auto [nu, nv] = sample_cells(patch, spacing, per_span);
-  PatchGrid g = grid_of(patch, nu, nv, chord > 0);
+  PatchGrid g = grid_of(patch, nu, nv, true);
   for (int round = 0; round < 3 && chord > 0 && g.max_chord > chord && (nu < kMaxGridSamples || nv < kMaxGridSamples); ++round) {
     const double grow = 1.1 * std::sqrt(g.max_chord / chord);
     nu = std::min(kMaxGridSamples, std::max(nu + 1, static_cast<int>(std::ceil(nu * grow))));
@@ -83,14 +82,9 @@ PatchGrid patch_grid(const BSplinePatch& patch, double spacing, double chord, in
   return g;
 }
 
-std::array<int, 2> patch_grid_cells(const BSplinePatch& patch, double spacing, double chord, int per_span) {
-  const PatchGrid g = patch_grid(patch, spacing, chord, per_span);
-  return {g.nu, g.nv};
-}
-
 PatchGrid patch_sample_grid(const BSplinePatch& patch, double spacing, int per_span) {
   const auto [nu, nv] = sample_cells(patch, spacing, per_span);
-  return grid_of(patch, nu, nv, false, false);
+  return grid_of(patch, nu, nv, false);
 }
 
 PatchGrid patch_grid_of_size(const BSplinePatch& patch, int nu, int nv) {

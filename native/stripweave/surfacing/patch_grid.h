@@ -15,16 +15,14 @@
 //         while the largest distance between a triangle's flat centroid and
 //         the patch point at its centroid's (u, v) exceeds `chord`, both
 //         counts grow by the square root of the excess (chordal error ~ h^2),
-//         up to kMaxGridSamples per direction (chord <= 0: no such check,
-//         and max_chord is not measured). Why `per_span`: a fit's error
+//         up to kMaxGridSamples per direction (chord <= 0: no such check;
+//         max_chord is measured all the same). Why `per_span`: a fit's error
 //         oscillates at most about twice per span, so with 8 samples per span
 //         the largest sampled deviation is within 1 - cos(pi / 8) (8 %) of the
 //         largest between the samples.
 #pragma once
 
 #include "stripweave/surfacing/bspline.h"
-
-#include <array>
 
 namespace stripweave {
 
@@ -48,10 +46,5 @@ PatchGrid patch_sample_grid(const BSplinePatch& patch, double spacing, int per_s
 
 // The grid of exactly nu x nv cells (each at least 1), its max_chord measured.
 PatchGrid patch_grid_of_size(const BSplinePatch& patch, int nu, int nv);
-
-// The cell counts {nu, nv} patch_grid would give, without keeping its grid:
-// a caller that sizes many grids before making them (fit_deviation's cap)
-// holds one grid at a time instead of all of them.
-std::array<int, 2> patch_grid_cells(const BSplinePatch& patch, double spacing, double chord, int per_span = 8);
 
 }  // namespace stripweave
