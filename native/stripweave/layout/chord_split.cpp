@@ -1,6 +1,8 @@
 // One triangle cut by the loops' chords (see the header).
 #include "stripweave/layout/chord_split.h"
 
+#include "stripweave/core/union_find.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -14,20 +16,6 @@ namespace {
 
 double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
 
-struct UnionFind {
-  std::vector<Index> parent;
-  explicit UnionFind(Index n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-  Index find(Index x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  bool unite(Index a, Index b) {
-    a = find(a), b = find(b);
-    if (a == b) return false;
-    parent[std::max(a, b)] = std::min(a, b);
-    return true;
-  }
-};
 
 // The chords with the same two endpoints are one ("unique") chord; it keeps
 // the input chords it stands for.

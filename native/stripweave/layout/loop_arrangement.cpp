@@ -2,6 +2,7 @@
 #include "stripweave/layout/loop_arrangement.h"
 
 #include "stripweave/core/error.h"
+#include "stripweave/core/union_find.h"
 #include "stripweave/layout/chord_split.h"
 
 #include <algorithm>
@@ -13,18 +14,6 @@ namespace stripweave {
 
 namespace {
 
-struct UnionFind {
-  std::vector<Index> parent;
-  explicit UnionFind(Index n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-  Index find(Index x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  void unite(Index a, Index b) {
-    a = find(a), b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
-};
 
 // A step of a loop between two snapped points ("skeleton points": surface
 // vertices, or points inside surface edges).

@@ -4,6 +4,7 @@
 #include "stripweave/occt/sew_loose_faces.h"
 
 #include "stripweave/core/error.h"
+#include "stripweave/core/union_find.h"
 
 #include <BRepAdaptor_Curve.hxx>
 #include <BRepAdaptor_Surface.hxx>
@@ -60,19 +61,6 @@ std::string lower_extension(const std::string& path) {
   return ext;
 }
 
-// Union-find over the per-face triangulation nodes ("slots").
-struct DisjointSets {
-  std::vector<Index> parent;
-  explicit DisjointSets(Index n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-  Index find(Index a) {
-    while (parent[a] != a) a = parent[a] = parent[parent[a]];
-    return a;
-  }
-  void unite(Index a, Index b) {
-    a = find(a), b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
-};
 
 }  // namespace
 
@@ -217,7 +205,7 @@ BrepTessellation BrepSource::tessellate(double linear_deflection, double angular
   // the same point of a shared edge or vertex are united. BRepMesh discretizes
   // each edge once, so the k-th node of an edge's polygon is the same point
   // in every face that uses the edge.
-  DisjointSets sets(slot_offset[nf]);
+  UnionFind sets(slot_offset[nf]);
   std::map<std::pair<Index, Index>, Index> key_slot;  // (edge, k) or (-1-vertex, 0)
   auto bind = [&](std::pair<Index, Index> key, Index slot) {
     auto [it, inserted] = key_slot.emplace(key, slot);

@@ -11,7 +11,8 @@
 //   1. Harmonic map of each patch mesh onto [0,1]^2 (patch_parameterization.h).
 //   2. Samples on the exact source: each patch triangle's vertices, edge
 //      midpoints and centroid, projected onto its source_face; each edge's
-//      densified polyline projected onto the B-rep (edge_curves.h).
+//      densified polyline projected onto the B-rep (edge_curves.h)
+//      (network_samples.h; who neighbours whom: network_topology.h).
 //   3. Strips of the layout: opposite sides of a quad must have the same
 //      knot vector for neighbours to share control rows, so the span count
 //      is a property of a strip (the classes of edges joined by "opposite in
@@ -21,7 +22,7 @@
 //      orthogonal deviation at the samples, and raise the span count of the
 //      strips through a patch or edge above tolerance by the cubic
 //      convergence estimate n' = n (err/tol)^(1/4), until all meet the
-//      tolerance or `max_spans`.
+//      tolerance or `max_spans` (steps 3 and 4: network_refinement.h).
 //   4. Tangent continuity across the smooth (non-sharp, non-boundary)
 //      seams (vertex_tangent_planes, experimental: at a smooth vertex the
 //      edge curves leave in the surface's tangent plane there, so the
