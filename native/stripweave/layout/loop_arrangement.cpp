@@ -107,44 +107,48 @@ EdgePoints snap_points(const Surface& s, const std::vector<LoopPath>& loops,
   return ep;
 }
 
-}  // namespace
 
-LoopArrangement build_loop_arrangement(const Surface& s, const std::vector<LoopPath>& loops) {
-  LoopArrangement out;
-  const MeshTopology& topo = s.topology;
-  const auto& P = s.mesh.positions;
-  const Index nv = s.mesh.num_vertices(), nt = s.mesh.num_triangles();
+// The snapped points: per refined vertex id past the surface's vertices,
+// the surface edge it lies in.
+struct SkeletonPoints {
+  const Surface& s;
+  EdgePoints ep;
+  std::vector<Index> point_edge;  // per edge point
+  Index nv = 0;
 
-  // 1. Snapping.
-  std::vector<std::vector<Index>> skeleton;
-  const EdgePoints ep = snap_points(s, loops, skeleton, out);
-  const Index n_edge_points = static_cast<Index>(ep.id.size());
-  std::vector<Index> point_edge(n_edge_points);
-  for (Index e = 0; e < topo.num_edges(); ++e)
-    for (Index k = ep.offsets[e]; k < ep.offsets[e + 1]; ++k) point_edge[k] = e;
-
-  auto edge_of = [&](Index x) { return x < nv ? kInvalid : point_edge[x - nv]; };
+  SkeletonPoints(const Surface& surface, EdgePoints points)
+      : s(surface), ep(std::move(points)), point_edge(ep.id.size()), nv(surface.mesh.num_vertices()) {
+    for (Index e = 0; e < s.topology.num_edges(); ++e)
+      for (Index k = ep.offsets[e]; k < ep.offsets[e + 1]; ++k) point_edge[k] = e;
+  }
+  Index edge_of(Index x) const { return x < nv ? kInvalid : point_edge[x - nv]; }
   // The closed surface edge holding both skeleton points, or kInvalid.
-  auto common_edge = [&](Index a, Index b) -> Index {
+  Index common_edge(Index a, Index b) const {
+    const MeshTopology& topo = s.topology;
     if (a < nv && b < nv) return topo.find_edge(a, b);
     if (a < nv) std::swap(a, b);
     const Index e = edge_of(a);
     if (b < nv) return topo.edges[e][0] == b || topo.edges[e][1] == b ? e : kInvalid;
     return edge_of(b) == e ? e : kInvalid;
-  };
-  auto triangle_holds = [&](Index t, Index x) {
+  }
+  bool triangle_holds(Index t, Index x) const {
     if (x < nv) {
       const Tri& f = s.mesh.triangles[t];
       return f[0] == x || f[1] == x || f[2] == x;
     }
-    const auto& te = topo.triangle_edges[t];
+    const auto& te = s.topology.triangle_edges[t];
     const Index e = edge_of(x);
     return te[0] == e || te[1] == e || te[2] == e;
-  };
+  }
+};
 
-  // 2. Steps.
+// (2) Each loop's steps between its distinct skeleton points, in order;
+// `steps_at` per loop its steps [first, last). Opens out.chains.
+std::vector<Step> loop_steps(const SkeletonPoints& sk, const std::vector<LoopPath>& loops,
+                             const std::vector<std::vector<Index>>& skeleton,
+                             std::vector<std::pair<Index, Index>>& steps_at, LoopArrangement& out) {
+  const MeshTopology& topo = sk.s.topology;
   std::vector<Step> steps;
-  std::vector<std::pair<Index, Index>> steps_at;  // per loop, its steps [first, last)
   out.chains.resize(loops.size());
   for (size_t l = 0; l < loops.size(); ++l) {
     const bool closed = loops[l].closed;
@@ -163,12 +167,12 @@ LoopArrangement build_loop_arrangement(const Surface& s, const std::vector<LoopP
         st.path_step = origin[i];
         st.from = seq[i];
         st.to = seq[(i + 1) % seq.size()];
-        st.edge = common_edge(st.from, st.to);
+        st.edge = sk.common_edge(st.from, st.to);
         if (st.edge == kInvalid) {
-          const Index holder = st.from >= nv ? st.from : st.to;
-          if (holder >= nv)
-            for (Index t : topo.edge_triangles[edge_of(holder)])
-              if (t != kInvalid && triangle_holds(t, st.from) && triangle_holds(t, st.to)) st.triangle = t;
+          const Index holder = st.from >= sk.nv ? st.from : st.to;
+          if (holder >= sk.nv)
+            for (Index t : topo.edge_triangles[sk.edge_of(holder)])
+              if (t != kInvalid && sk.triangle_holds(t, st.from) && sk.triangle_holds(t, st.to)) st.triangle = t;
           if (st.triangle == kInvalid)
             throw InputError("loop " + std::to_string(l) + ": path points " + std::to_string(origin[i]) + " and " +
                              std::to_string(origin[(i + 1) % seq.size()]) + " share no triangle");
@@ -178,105 +182,131 @@ LoopArrangement build_loop_arrangement(const Surface& s, const std::vector<LoopP
     }
     steps_at.emplace_back(begin, static_cast<Index>(steps.size()));
   }
+  return steps;
+}
 
-  // The chords of each triangle (CSR over the steps).
-  std::vector<Index> chord_offsets(nt + 1, 0), chord_steps;
+// The chord steps of each surface triangle (CSR over the steps).
+struct TriangleChords {
+  std::vector<Index> offsets, steps;
+};
+
+TriangleChords chords_per_triangle(const std::vector<Step>& steps, Index nt) {
+  TriangleChords c;
+  c.offsets.assign(nt + 1, 0);
   for (const Step& st : steps)
-    if (st.triangle != kInvalid) ++chord_offsets[st.triangle + 1];
-  std::partial_sum(chord_offsets.begin(), chord_offsets.end(), chord_offsets.begin());
-  chord_steps.resize(chord_offsets[nt]);
-  {
-    std::vector<Index> fill(chord_offsets.begin(), chord_offsets.end() - 1);
-    for (Index k = 0; k < static_cast<Index>(steps.size()); ++k)
-      if (steps[k].triangle != kInvalid) chord_steps[fill[steps[k].triangle]++] = k;
-  }
+    if (st.triangle != kInvalid) ++c.offsets[st.triangle + 1];
+  std::partial_sum(c.offsets.begin(), c.offsets.end(), c.offsets.begin());
+  c.steps.resize(c.offsets[nt]);
+  std::vector<Index> fill(c.offsets.begin(), c.offsets.end() - 1);
+  for (Index k = 0; k < static_cast<Index>(steps.size()); ++k)
+    if (steps[k].triangle != kInvalid) c.steps[fill[steps[k].triangle]++] = k;
+  return c;
+}
 
-  // 3. Refinement.
+// (3) Triangle t cut by its chords in its own plane (corner 0 at the
+// origin, side 0 along x): its pieces and new vertices appended to out,
+// each of its chord steps given its chain of refined vertices.
+void split_triangle(const SkeletonPoints& sk, const TriangleChords& chords, Index t, std::vector<Step>& steps,
+                    LoopArrangement& out) {
+  const auto& P = sk.s.mesh.positions;
+  const MeshTopology& topo = sk.s.topology;
+  const EdgePoints& ep = sk.ep;
+  const Tri& f = sk.s.mesh.triangles[t];
+  const auto& te = topo.triangle_edges[t];
+  const Vec3 ex = (P[f[1]] - P[f[0]]).normalized();
+  Vec3 ey = (P[f[1]] - P[f[0]]).cross(P[f[2]] - P[f[0]]).cross(ex);
+  ey = ey.norm() > 0 ? Vec3(ey.normalized()) : Vec3(ex.unitOrthogonal());
+  auto to2 = [&](const Vec3& x) { return Vec2((x - P[f[0]]).dot(ex), (x - P[f[0]]).dot(ey)); };
+  ChordSplitInput in;
+  in.corners = {to2(P[f[0]]), to2(P[f[1]]), to2(P[f[2]])};
+  std::vector<Index> global;  // per boundary position of the triangle, its refined vertex
+  double longest = 0;
+  for (int k = 0; k < 3; ++k) {
+    in.corner_at[k] = static_cast<Index>(in.boundary.size());
+    in.boundary.push_back(in.corners[k]);
+    global.push_back(f[k]);
+    const Index e = te[k];
+    const bool along = topo.edges[e][0] == f[k];
+    const Index b = ep.offsets[e], n = ep.offsets[e + 1] - b;
+    const Vec2 a2 = in.corners[k], b2 = in.corners[(k + 1) % 3];
+    longest = std::max(longest, (b2 - a2).norm());
+    for (Index j = 0; j < n; ++j) {
+      const Index q = b + (along ? j : n - 1 - j);
+      const double tau = along ? ep.t[q] : 1 - ep.t[q];
+      in.boundary.push_back((1 - tau) * a2 + tau * b2);
+      global.push_back(ep.id[q]);
+    }
+  }
+  auto local = [&](Index x) {
+    const auto it = std::find(global.begin(), global.end(), x);
+    if (it == global.end()) throw std::logic_error("build_loop_arrangement: a chord end is not on its triangle");
+    return static_cast<Index>(it - global.begin());
+  };
+  const Index first = chords.offsets[t], last = chords.offsets[t + 1];
+  for (Index k = first; k < last; ++k)
+    in.chords.push_back({local(steps[chords.steps[k]].from), local(steps[chords.steps[k]].to)});
+  in.tolerance = kSnap * longest;
+  const ChordSplit split = split_by_chords(in);
+  out.star_triangles += split.star;
+
+  for (const Vec2& q : split.points) {
+    global.push_back(static_cast<Index>(out.mesh.positions.size()));
+    out.mesh.positions.push_back(P[f[0]] + q.x() * ex + q.y() * ey);
+    out.original_vertex.push_back(kInvalid);
+    out.original_edge.push_back(kInvalid);
+  }
+  for (const auto& tri : split.triangles) {
+    out.mesh.triangles.push_back({global[tri[0]], global[tri[1]], global[tri[2]]});
+    out.parent_triangle.push_back(t);
+  }
+  for (Index k = first; k < last; ++k) {
+    Step& st = steps[chords.steps[k]];
+    st.chain.clear();
+    for (Index x : split.chord_vertices[k - first]) st.chain.push_back(global[x]);
+  }
+}
+
+// (3) The refined mesh: the surface's vertices, the snapped edge points, and
+// every triangle with chords or points on its sides split; then its topology.
+void refine_mesh(const SkeletonPoints& sk, const TriangleChords& chords, std::vector<Step>& steps, LoopArrangement& out) {
+  const auto& P = sk.s.mesh.positions;
+  const MeshTopology& topo = sk.s.topology;
+  const EdgePoints& ep = sk.ep;
+  const Index nv = sk.nv, nt = sk.s.mesh.num_triangles();
   out.mesh.positions.assign(P.begin(), P.end());
   out.original_vertex.resize(nv);
   std::iota(out.original_vertex.begin(), out.original_vertex.end(), 0);
   out.original_edge.assign(nv, kInvalid);
-  for (Index k = 0; k < n_edge_points; ++k) {
-    const EdgeKey& e = topo.edges[point_edge[k]];
+  for (Index k = 0; k < static_cast<Index>(ep.id.size()); ++k) {
+    const EdgeKey& e = topo.edges[sk.point_edge[k]];
     out.mesh.positions.push_back((1 - ep.t[k]) * P[e[0]] + ep.t[k] * P[e[1]]);
     out.original_vertex.push_back(kInvalid);
-    out.original_edge.push_back(point_edge[k]);
+    out.original_edge.push_back(sk.point_edge[k]);
   }
   out.mesh.triangles.reserve(nt + 4 * steps.size());
   out.parent_triangle.reserve(nt + 4 * steps.size());
-  ChordSplitInput in;
-  std::vector<Index> global;  // per boundary position of the current triangle, its refined vertex
   for (Index t = 0; t < nt; ++t) {
-    const Tri& f = s.mesh.triangles[t];
-    const auto& te = topo.triangle_edges[t];
-    const bool has_chords = chord_offsets[t + 1] > chord_offsets[t];
+    const bool has_chords = chords.offsets[t + 1] > chords.offsets[t];
     bool has_points = false;
-    for (Index e : te) has_points |= ep.offsets[e + 1] > ep.offsets[e];
-    if (!has_chords && !has_points) {
-      out.mesh.triangles.push_back(f);
+    for (Index e : topo.triangle_edges[t]) has_points |= ep.offsets[e + 1] > ep.offsets[e];
+    if (has_chords || has_points) {
+      split_triangle(sk, chords, t, steps, out);
+    } else {
+      out.mesh.triangles.push_back(sk.s.mesh.triangles[t]);
       out.parent_triangle.push_back(t);
-      continue;
-    }
-    // The triangle in its own plane: corner 0 at the origin, side 0 along x.
-    const Vec3 ex = (P[f[1]] - P[f[0]]).normalized();
-    Vec3 ey = (P[f[1]] - P[f[0]]).cross(P[f[2]] - P[f[0]]).cross(ex);
-    ey = ey.norm() > 0 ? Vec3(ey.normalized()) : Vec3(ex.unitOrthogonal());
-    auto to2 = [&](const Vec3& x) { return Vec2((x - P[f[0]]).dot(ex), (x - P[f[0]]).dot(ey)); };
-    in.corners = {to2(P[f[0]]), to2(P[f[1]]), to2(P[f[2]])};
-    in.boundary.clear();
-    in.chords.clear();
-    global.clear();
-    double longest = 0;
-    for (int k = 0; k < 3; ++k) {
-      in.corner_at[k] = static_cast<Index>(in.boundary.size());
-      in.boundary.push_back(in.corners[k]);
-      global.push_back(f[k]);
-      const Index e = te[k];
-      const bool along = topo.edges[e][0] == f[k];
-      const Index b = ep.offsets[e], n = ep.offsets[e + 1] - b;
-      const Vec2 a2 = in.corners[k], b2 = in.corners[(k + 1) % 3];
-      longest = std::max(longest, (b2 - a2).norm());
-      for (Index j = 0; j < n; ++j) {
-        const Index q = b + (along ? j : n - 1 - j);
-        const double tau = along ? ep.t[q] : 1 - ep.t[q];
-        in.boundary.push_back((1 - tau) * a2 + tau * b2);
-        global.push_back(ep.id[q]);
-      }
-    }
-    auto local = [&](Index x) {
-      const auto it = std::find(global.begin(), global.end(), x);
-      if (it == global.end()) throw std::logic_error("build_loop_arrangement: a chord end is not on its triangle");
-      return static_cast<Index>(it - global.begin());
-    };
-    for (Index k = chord_offsets[t]; k < chord_offsets[t + 1]; ++k)
-      in.chords.push_back({local(steps[chord_steps[k]].from), local(steps[chord_steps[k]].to)});
-    in.tolerance = kSnap * longest;
-    const ChordSplit split = split_by_chords(in);
-    out.star_triangles += split.star;
-
-    for (const Vec2& q : split.points) {
-      global.push_back(static_cast<Index>(out.mesh.positions.size()));
-      out.mesh.positions.push_back(P[f[0]] + q.x() * ex + q.y() * ey);
-      out.original_vertex.push_back(kInvalid);
-      out.original_edge.push_back(kInvalid);
-    }
-    for (const auto& tri : split.triangles) {
-      out.mesh.triangles.push_back({global[tri[0]], global[tri[1]], global[tri[2]]});
-      out.parent_triangle.push_back(t);
-    }
-    for (Index k = chord_offsets[t]; k < chord_offsets[t + 1]; ++k) {
-      Step& st = steps[chord_steps[k]];
-      st.chain.clear();
-      for (Index x : split.chord_vertices[k - chord_offsets[t]]) st.chain.push_back(global[x]);
     }
   }
   out.topology = MeshTopology::build(out.mesh);
-  const MeshTopology& rt = out.topology;
-  const Index rv = out.mesh.num_vertices(), re = rt.num_edges();
+}
 
-  // 4. Chains and labels.
+// (4) Each loop's chain of refined vertices and edges, and each chain edge's
+// label, indexed per refined edge.
+void chains_and_labels(const SkeletonPoints& sk, const std::vector<std::pair<Index, Index>>& steps_at,
+                       std::vector<Step>& steps, LoopArrangement& out) {
+  const MeshTopology& topo = sk.s.topology;
+  const MeshTopology& rt = out.topology;
   std::vector<std::pair<Index, Index>> labelled;  // (refined edge, label)
-  for (size_t l = 0; l < loops.size(); ++l) {
+  for (size_t l = 0; l < out.chains.size(); ++l) {
     LoopChain& chain = out.chains[l];
     std::vector<Index> chain_steps;  // per chain edge, its step
     for (Index k = steps_at[l].first; k < steps_at[l].second; ++k) {
@@ -285,7 +315,7 @@ LoopArrangement build_loop_arrangement(const Surface& s, const std::vector<LoopP
         // A run along surface edge e: its refined pieces between the two points.
         const Index e = st.edge;
         std::vector<Index> row{topo.edges[e][0]};
-        for (Index q = ep.offsets[e]; q < ep.offsets[e + 1]; ++q) row.push_back(ep.id[q]);
+        for (Index q = sk.ep.offsets[e]; q < sk.ep.offsets[e + 1]; ++q) row.push_back(sk.ep.id[q]);
         row.push_back(topo.edges[e][1]);
         const auto i = std::find(row.begin(), row.end(), st.from) - row.begin();
         const auto j = std::find(row.begin(), row.end(), st.to) - row.begin();
@@ -315,16 +345,23 @@ LoopArrangement build_loop_arrangement(const Surface& s, const std::vector<LoopP
     }
   }
   std::sort(labelled.begin(), labelled.end());
-  out.edge_labels.offsets.assign(re + 1, 0);
+  out.edge_labels.offsets.assign(rt.num_edges() + 1, 0);
   for (const auto& [e, _] : labelled) ++out.edge_labels.offsets[e + 1];
   std::partial_sum(out.edge_labels.offsets.begin(), out.edge_labels.offsets.end(), out.edge_labels.offsets.begin());
   for (const auto& [_, label] : labelled) out.edge_labels.indices.push_back(label);
+}
 
-  // 5. The arrangement graph: degrees, nodes, node-less cycles.
+// (4) The arrangement graph: degrees, nodes, node-less cycles, and the
+// graph's vertex and edge counts once each run of degree-2 vertices is
+// merged into one edge (which keeps V - E). Returns per refined vertex its
+// node, or kInvalid.
+std::vector<Index> arrangement_graph(LoopArrangement& out) {
+  const MeshTopology& rt = out.topology;
+  const Index rv = out.mesh.num_vertices();
   out.degree.assign(rv, 0);
   UnionFind components(rv);
   Index graph_edge_pieces = 0;
-  for (Index e = 0; e < re; ++e) {
+  for (Index e = 0; e < rt.num_edges(); ++e) {
     if (!out.separates(e)) continue;
     ++out.degree[rt.edges[e][0]], ++out.degree[rt.edges[e][1]];
     components.unite(rt.edges[e][0], rt.edges[e][1]);
@@ -352,21 +389,26 @@ LoopArrangement build_loop_arrangement(const Surface& s, const std::vector<LoopP
   Index nodeless_cycles = 0;
   for (Index v = 0; v < rv; ++v)
     if (out.degree[v] > 0 && components.find(v) == v && !component_has_node[v]) ++nodeless_cycles;
-  // Merging each run of degree-2 vertices into one edge keeps V - E.
   out.graph_vertices = static_cast<Index>(out.nodes.size()) + nodeless_cycles;
   out.graph_edges = out.graph_vertices - (graph_vertex_pieces - graph_edge_pieces);
+  return node_of;
+}
 
-  // 6. Arcs: each chain cut at the nodes.
-  auto sides = [&](LoopArc& arc) {
-    const Index e = arc.edges.front(), a = arc.vertices[0];
-    for (Index t : rt.edge_triangles[e]) {
-      if (t == kInvalid) continue;
-      const Tri& f = out.mesh.triangles[t];
-      const int i = f[0] == a ? 0 : f[1] == a ? 1 : 2;
-      const bool left = f[(i + 1) % 3] == arc.vertices[1 % arc.vertices.size()];
-      (left ? arc.left_triangle : arc.right_triangle) = t;
-    }
-  };
+// The triangles on either side of an arc's first edge.
+void arc_sides(const LoopArrangement& out, LoopArc& arc) {
+  const Index e = arc.edges.front(), a = arc.vertices[0];
+  for (Index t : out.topology.edge_triangles[e]) {
+    if (t == kInvalid) continue;
+    const Tri& f = out.mesh.triangles[t];
+    const int i = f[0] == a ? 0 : f[1] == a ? 1 : 2;
+    const bool left = f[(i + 1) % 3] == arc.vertices[1 % arc.vertices.size()];
+    (left ? arc.left_triangle : arc.right_triangle) = t;
+  }
+}
+
+// (4) Arcs: each chain cut at the nodes (and an open chain at its ends); a
+// closed chain through no node is one closed arc.
+void cut_arcs(const std::vector<Index>& node_of, LoopArrangement& out) {
   for (size_t l = 0; l < out.chains.size(); ++l) {
     const LoopChain& c = out.chains[l];
     const Index n = static_cast<Index>(c.vertices.size());
@@ -380,7 +422,7 @@ LoopArrangement build_loop_arrangement(const Surface& s, const std::vector<LoopP
       arc.vertices = c.vertices;
       arc.edges = c.edges;
       arc.closed = true;
-      sides(arc);
+      arc_sides(out, arc);
       out.arcs.push_back(std::move(arc));
       continue;
     }
@@ -392,13 +434,26 @@ LoopArrangement build_loop_arrangement(const Surface& s, const std::vector<LoopP
       arc.loop = static_cast<Index>(l);
       for (Index i = from; i <= to; ++i) arc.vertices.push_back(c.vertices[i % n]);
       for (Index i = from; i < to; ++i) arc.edges.push_back(c.edges[i % n]);
-      sides(arc);
+      arc_sides(out, arc);
       const Index id = static_cast<Index>(out.arcs.size());
       for (Index end : {arc.vertices.front(), arc.vertices.back()})
         if (node_of[end] != kInvalid) out.nodes[node_of[end]].arcs.push_back(id);
       out.arcs.push_back(std::move(arc));
     }
   }
+}
+
+}  // namespace
+
+LoopArrangement build_loop_arrangement(const Surface& s, const std::vector<LoopPath>& loops) {
+  LoopArrangement out;
+  std::vector<std::vector<Index>> skeleton;
+  const SkeletonPoints sk(s, snap_points(s, loops, skeleton, out));  // (1)
+  std::vector<std::pair<Index, Index>> steps_at;
+  std::vector<Step> steps = loop_steps(sk, loops, skeleton, steps_at, out);  // (2)
+  refine_mesh(sk, chords_per_triangle(steps, s.mesh.num_triangles()), steps, out);  // (3)
+  chains_and_labels(sk, steps_at, steps, out);  // (4)
+  cut_arcs(arrangement_graph(out), out);
   return out;
 }
 
