@@ -300,6 +300,251 @@ void combed_frames(const Surface& surface, const CrossField& field, const CutGra
   }
 }
 
+
+// The unknowns: per wedge its index among the free wedges (-1: pinned, one
+// per connected component), u of all free wedges, then v.
+struct Unknowns {
+  std::vector<Index> slot;
+  Index free_wedges = 0;
+  Index n_primal = 0;
+  Index var(Index w, int axis) const { return slot[w] < 0 ? -1 : slot[w] + axis * free_wedges; }
+};
+
+Unknowns unknowns_of(const CutGraph& cut) {
+  Unknowns x;
+  x.slot.assign(cut.num_wedges(), 0);
+  for (Index c = 0; c < cut.num_components(); ++c) x.slot[cut.wedge_of(cut.tree_root[c], 0)] = -1;
+  for (Index& s : x.slot)
+    if (s == 0) s = x.free_wedges++;
+  x.n_primal = 2 * x.free_wedges;
+  return x;
+}
+
+// The constraint rows: two transition rows per cut edge, one isocurve row
+// per loop segment (rows that vanish, all their unknowns pinned, left out).
+std::vector<Row> constraint_rows(const Surface& surface, const CutGraph& cut, const std::vector<LoopPath>& loops,
+                                 const std::vector<std::vector<int>>& loop_axis, const Unknowns& x) {
+  const TriangleMesh& mesh = surface.mesh;
+  const MeshTopology& topo = surface.topology;
+  std::vector<Row> rows;
+  for (Index e = 0; e < topo.num_edges(); ++e) {
+    if (!cut.on_cut[e]) continue;
+    const auto [t0, t1] = topo.edge_triangles[e];
+    const int r = mod4(4 - cut.combed_matching[e]);
+    const Index a = topo.edges[e][0], b = topo.edges[e][1];
+    const Index a0 = cut.wedge_of(t0, corner_of(mesh.triangles[t0], a));
+    const Index a1 = cut.wedge_of(t1, corner_of(mesh.triangles[t1], a));
+    const Index b0 = cut.wedge_of(t0, corner_of(mesh.triangles[t0], b));
+    const Index b1 = cut.wedge_of(t1, corner_of(mesh.triangles[t1], b));
+    for (int k = 0; k < 2; ++k) {
+      Row row;
+      row.add(x.var(a1, k), 1);
+      row.add(x.var(a0, source(r, k)), -sign(r, k));
+      row.add(x.var(b1, k), -1);
+      row.add(x.var(b0, source(r, k)), sign(r, k));
+      row.tidy();
+      if (row.n > 0) rows.push_back(row);
+    }
+  }
+  for (size_t l = 0; l < loops.size(); ++l) {
+    const LoopPath& lp = loops[l];
+    for (size_t k = 0; k < lp.segments.size(); ++k) {
+      const PathSegment& g = lp.segments[k];
+      const Vec3 bp = barycentric_in(surface, lp.path, g.from, g.triangle);
+      const Vec3 bq = barycentric_in(surface, lp.path, g.to, g.triangle);
+      Row row;
+      for (int c = 0; c < 3; ++c) row.add(x.var(cut.wedge_of(g.triangle, c), loop_axis[l][k]), bp[c] - bq[c]);
+      row.tidy();
+      if (row.n > 0) rows.push_back(row);
+    }
+  }
+  return rows;
+}
+
+// The energy's Hessian H (lower triangle, triplets) and gradient term
+// (rhs, sized for the unknowns and the n_rows constraints). In triangle t
+// the hat function of corner i has the constant gradient
+// n x (p[i+2] - p[i+1]) / 2A, so A grad(phi_i).grad(phi_j) is the usual
+// cotangent weight and A f.grad(phi_i) = f.(n x e_i) / 2.
+void energy(const Surface& surface, const CutGraph& cut, const std::vector<Vec3>& f, const std::vector<Vec3>& n,
+            const Unknowns& x, Index n_rows, std::vector<Triplet>& h, Eigen::VectorXd& rhs) {
+  const TriangleMesh& mesh = surface.mesh;
+  const Index F = mesh.num_triangles();
+  h.reserve(9 * 2 * static_cast<size_t>(F));
+  rhs = Eigen::VectorXd::Zero(x.n_primal + n_rows);
+  for (Index t = 0; t < F; ++t) {
+    const Tri& tri = mesh.triangles[t];
+    const double a2 = triangle_normal_area2(mesh, t).norm();
+    if (!(a2 > 1e-24)) {
+      // A zero-area triangle (coincident or collinear corners, as B-rep
+      // tessellations leave at poles and closed gaps) has no gradient to
+      // fit, yet its corners are unknowns. Where the cut isolates a wedge
+      // whose triangles are all such, nothing else fixes its value and the
+      // factorization meets a zero pivot. A faint membrane across the
+      // triangle's edges gives such a wedge the mean of its neighbours (for
+      // coincident corners, the value of its twin: the limit of a shrinking
+      // triangle) and moves nothing where triangles have area.
+      for (int i = 0; i < 3; ++i)
+        for (int axis = 0; axis < 2; ++axis) {
+          const Index p = x.var(cut.wedge_of(t, i), axis), q = x.var(cut.wedge_of(t, (i + 1) % 3), axis);
+          if (p >= 0) h.emplace_back(p, p, kDegenerateMembrane);
+          if (q >= 0) h.emplace_back(q, q, kDegenerateMembrane);
+          if (p >= 0 && q >= 0 && p != q) h.emplace_back(std::max(p, q), std::min(p, q), -kDegenerateMembrane);
+        }
+      continue;
+    }
+    std::array<Vec3, 3> g;  // 2A grad(phi_i)
+    for (int i = 0; i < 3; ++i)
+      g[i] = n[t].cross(mesh.positions[tri[(i + 2) % 3]] - mesh.positions[tri[(i + 1) % 3]]);
+    const Vec3 fu = f[t], fv = n[t].cross(f[t]);
+    for (int i = 0; i < 3; ++i) {
+      const Index w = cut.wedge_of(t, i);
+      for (int axis = 0; axis < 2; ++axis) {
+        const Index p = x.var(w, axis);
+        if (p < 0) continue;
+        rhs[p] += 0.5 * (axis == 0 ? fu : fv).dot(g[i]);
+        for (int j = 0; j < 3; ++j) {
+          const Index q = x.var(cut.wedge_of(t, j), axis);
+          if (q >= 0 && q <= p) h.emplace_back(p, q, g[i].dot(g[j]) / (2 * a2));
+        }
+      }
+    }
+  }
+}
+
+// The elimination order, as each unknown's and constraint's position: the
+// surface's nested dissection, wedge by wedge (the copies of a vertex side
+// by side), each wedge's u right before its v, then each constraint right
+// after its last unknown. Cutting only splits vertices, and a transition
+// only ties copies of an edge's two ends, so the vertices' separators still
+// separate the unknowns: the order depends on the mesh alone and is computed
+// once per surface. (Dissecting the graph of all 2W unknowns per design,
+// which sees that u and v are two sheets tied only where a transition turns
+// by an odd quarter, factors some 30% faster but costs twice that in
+// ordering; minimum degree, per design, costs as much to order and factors
+// 1.5 times slower.)
+std::vector<Index> elimination_positions(const Surface& surface, const CutGraph& cut, const Unknowns& x,
+                                         const std::vector<Row>& rows, const std::vector<Index>& vertex_order) {
+  const Index n_primal = x.n_primal, n_rows = static_cast<Index>(rows.size());
+  const Index nv = surface.mesh.num_vertices();
+  const std::vector<Index> by_rank = vertex_order.empty() ? vertex_elimination_order(surface) : vertex_order;
+  if (static_cast<Index>(by_rank.size()) != nv)
+    throw std::invalid_argument("parameterize: the vertex order does not belong to this surface");
+  std::vector<std::vector<Index>> wedges_of(nv);
+  for (Index w = 0; w < cut.num_wedges(); ++w) wedges_of[cut.wedge_vertex[w]].push_back(w);
+  std::vector<Index> order;
+  order.reserve(n_primal);
+  for (Index v : by_rank)
+    for (Index w : wedges_of[v])
+      if (x.slot[w] >= 0) order.push_back(x.var(w, 0)), order.push_back(x.var(w, 1));
+  std::vector<Index> rank(n_primal);
+  for (Index k = 0; k < n_primal; ++k) rank[order[k]] = k;
+  std::vector<std::vector<Index>> after(n_primal);
+  for (Index c = 0; c < n_rows; ++c) {
+    Index last = 0;
+    for (int i = 0; i < rows[c].n; ++i) last = std::max(last, rank[rows[c].var[i]]);
+    after[last].push_back(c);
+  }
+  std::vector<Index> position(n_primal + n_rows);
+  Index next = 0;
+  for (Index k = 0; k < n_primal; ++k) {
+    position[order[k]] = next++;
+    for (Index c : after[k]) position[n_primal + c] = next++;
+  }
+  return position;
+}
+
+// The KKT matrix, lower triangle, in elimination order; H's triplets are
+// released as they are used (they and the KKT triplets go before the
+// factorization, the peak of the solve: some 17 MB at 30K triangles).
+SparseMatrix kkt_matrix(std::vector<Triplet>& h, const std::vector<Row>& rows, const std::vector<Index>& position,
+                        Index n_primal) {
+  const Index n_rows = static_cast<Index>(rows.size()), N = n_primal + n_rows;
+  std::vector<Triplet> kkt;
+  kkt.reserve(h.size() + 5 * rows.size());
+  auto put = [&](Index i, Index j, double x) {
+    const Index pi = position[i], pj = position[j];
+    kkt.emplace_back(std::max(pi, pj), std::min(pi, pj), x);
+  };
+  for (const Triplet& x : h) put(x.row(), x.col(), x.value());
+  for (Index c = 0; c < n_rows; ++c) {
+    for (int i = 0; i < rows[c].n; ++i) put(n_primal + c, rows[c].var[i], rows[c].coef[i]);
+    put(n_primal + c, n_primal + c, -kRegularization);
+  }
+  std::vector<Triplet>().swap(h);
+  SparseMatrix K(N, N);
+  K.setFromTriplets(kkt.begin(), kkt.end());
+  return K;
+}
+
+// Solve, then refine against the system without regularization until the
+// residual is at rounding level (usually one step), or stops shrinking
+// (rounding in the factors sets a floor near 1e-12; a step that does not
+// halve the residual only costs a solve). `is_row`: 1 at the constraints'
+// positions.
+Eigen::VectorXd refined_solve(const SparseMatrix& K, const SupernodalLdlt& ldlt, const Eigen::VectorXd& b,
+                              const Eigen::VectorXd& is_row) {
+  Eigen::VectorXd x = ldlt.solve(b);
+  const double b_norm = std::max(b.lpNorm<Eigen::Infinity>(), 1e-300);
+  double previous = std::numeric_limits<double>::infinity();
+  for (int step = 0; step < 3; ++step) {
+    Eigen::VectorXd residual = b - K.selfadjointView<Eigen::Lower>() * x;
+    residual -= kRegularization * is_row.cwiseProduct(x);  // undo -d on the constraint block
+    const double r = residual.lpNorm<Eigen::Infinity>();
+    if (r <= 1e-12 * b_norm || !(r < 0.5 * previous)) break;
+    previous = r;
+    x += ldlt.solve(residual);
+  }
+  return x;
+}
+
+// Transitions: the rotation from the combed matching, the translation from
+// the two copies of the edge's ends (equal up to the residual); returns the
+// largest disagreement of the two.
+double transitions(const Surface& surface, const CutGraph& cut, Parameterization& out) {
+  const TriangleMesh& mesh = surface.mesh;
+  const MeshTopology& topo = surface.topology;
+  double residual = 0;
+  out.transition.assign(topo.num_edges(), Transition{});
+  for (Index e = 0; e < topo.num_edges(); ++e) {
+    if (!cut.on_cut[e]) continue;
+    const auto [t0, t1] = topo.edge_triangles[e];
+    Transition& tr = out.transition[e];
+    tr.r = mod4(4 - cut.combed_matching[e]);
+    Vec2 ends[2];
+    for (int k = 0; k < 2; ++k) {
+      const Index v = topo.edges[e][k];
+      ends[k] = out.uv[t1][corner_of(mesh.triangles[t1], v)] - turn(out.uv[t0][corner_of(mesh.triangles[t0], v)], tr.r);
+    }
+    tr.tr = 0.5 * (ends[0] + ends[1]);
+    residual = std::max(residual, (ends[0] - ends[1]).norm());
+  }
+  return residual;
+}
+
+// Loops: the value of the across-coordinate at both ends of each segment;
+// returns the largest disagreement of the two.
+double loop_values(const Surface& surface, const std::vector<LoopPath>& loops, Parameterization& out) {
+  double residual = 0;
+  out.loop_value.resize(loops.size());
+  out.loop_points_uv.resize(loops.size());
+  for (size_t l = 0; l < loops.size(); ++l) {
+    const LoopPath& lp = loops[l];
+    for (size_t k = 0; k < lp.segments.size(); ++k) {
+      const PathSegment& g = lp.segments[k];
+      const auto& c = out.uv[g.triangle];
+      const Vec3 bp = barycentric_in(surface, lp.path, g.from, g.triangle);
+      const Vec3 bq = barycentric_in(surface, lp.path, g.to, g.triangle);
+      const std::array<Vec2, 2> ends{bp[0] * c[0] + bp[1] * c[1] + bp[2] * c[2], bq[0] * c[0] + bq[1] * c[1] + bq[2] * c[2]};
+      const int axis = out.loop_axis[l][k];
+      out.loop_points_uv[l].push_back(ends);
+      out.loop_value[l].push_back(0.5 * (ends[0][axis] + ends[1][axis]));
+      residual = std::max(residual, std::abs(ends[0][axis] - ends[1][axis]));
+    }
+  }
+  return residual;
+}
+
 }  // namespace
 
 Vec2 Transition::apply(const Vec2& p) const { return turn(p, r) + tr; }
@@ -320,8 +565,7 @@ Parameterization parameterize(const Surface& surface, const CrossField& field, c
                               const std::vector<Index>& vertex_order) {
   const auto start = Clock::now();
   const TriangleMesh& mesh = surface.mesh;
-  const MeshTopology& topo = surface.topology;
-  const Index F = mesh.num_triangles(), E = topo.num_edges();
+  const Index F = mesh.num_triangles();
   if (F == 0) throw InputError("the surface has no triangles to parameterize");
   if (static_cast<Index>(field.direction.size()) != F || static_cast<Index>(field.frame_x.size()) != F)
     throw std::invalid_argument("parameterize: the cross field does not belong to this surface");
@@ -338,170 +582,32 @@ Parameterization parameterize(const Surface& surface, const CrossField& field, c
     last = now;
   };
 
-  // --- (1, 2) Cut graph and combed field ---------------------------------------
+  // (1, 2) Cut graph and combed field; loops whose meetings the field
+  // cannot align with both are refused before the solve.
   const CutGraph cut = cut_to_disk(surface, field);
   std::vector<Vec3> f, n;
   combed_frames(surface, field, cut, f, n);
   out.comb = cut.comb;
   out.on_cut = cut.on_cut;
   out.cut_ends = cut.cut_ends;
-
   out.loop_axis = loop_axes(f, n, loops);
   if (const std::vector<LoopMeeting> m = meetings_of(surface, cut, loops, out.loop_axis); !m.empty())
     throw_meeting(surface, m.front());
   lap("cut and comb");
 
-  // --- Unknowns -------------------------------------------------------------
-  const Index W = cut.num_wedges();
-  std::vector<Index> slot(W, 0);  // wedge -> its index among the free wedges, or -1 if pinned
-  for (Index c = 0; c < cut.num_components(); ++c) slot[cut.wedge_of(cut.tree_root[c], 0)] = -1;
-  Index free_wedges = 0;
-  for (Index w = 0; w < W; ++w)
-    if (slot[w] == 0) slot[w] = free_wedges++;
-  const Index n_primal = 2 * free_wedges;
-  auto var = [&](Index w, int axis) -> Index { return slot[w] < 0 ? -1 : slot[w] + axis * free_wedges; };
-
-  // --- Constraints -------------------------------------------------------------
-  std::vector<Row> rows;
-  for (Index e = 0; e < E; ++e) {
-    if (!cut.on_cut[e]) continue;
-    const auto [t0, t1] = topo.edge_triangles[e];
-    const int r = mod4(4 - cut.combed_matching[e]);
-    const Index a = topo.edges[e][0], b = topo.edges[e][1];
-    const Index a0 = cut.wedge_of(t0, corner_of(mesh.triangles[t0], a));
-    const Index a1 = cut.wedge_of(t1, corner_of(mesh.triangles[t1], a));
-    const Index b0 = cut.wedge_of(t0, corner_of(mesh.triangles[t0], b));
-    const Index b1 = cut.wedge_of(t1, corner_of(mesh.triangles[t1], b));
-    for (int k = 0; k < 2; ++k) {
-      Row row;
-      row.add(var(a1, k), 1);
-      row.add(var(a0, source(r, k)), -sign(r, k));
-      row.add(var(b1, k), -1);
-      row.add(var(b0, source(r, k)), sign(r, k));
-      row.tidy();
-      if (row.n > 0) rows.push_back(row);
-    }
-  }
-  for (size_t l = 0; l < loops.size(); ++l) {
-    const LoopPath& lp = loops[l];
-    for (size_t k = 0; k < lp.segments.size(); ++k) {
-      const PathSegment& g = lp.segments[k];
-      const Vec3 bp = barycentric_in(surface, lp.path, g.from, g.triangle);
-      const Vec3 bq = barycentric_in(surface, lp.path, g.to, g.triangle);
-      Row row;
-      for (int c = 0; c < 3; ++c) row.add(var(cut.wedge_of(g.triangle, c), out.loop_axis[l][k]), bp[c] - bq[c]);
-      row.tidy();
-      if (row.n > 0) rows.push_back(row);
-    }
-  }
-  const Index n_rows = static_cast<Index>(rows.size());
-
-  // --- Energy: cotangent Laplacian and the field's divergence -----------------------
-  // In triangle t the hat function of corner i has the constant gradient
-  // n x (p[i+2] - p[i+1]) / 2A, so A grad(phi_i).grad(phi_j) is the usual
-  // cotangent weight and A f.grad(phi_i) = f.(n x e_i) / 2.
+  const Unknowns unknowns = unknowns_of(cut);
+  const Index n_primal = unknowns.n_primal;
+  const std::vector<Row> rows = constraint_rows(surface, cut, loops, out.loop_axis, unknowns);
+  const Index n_rows = static_cast<Index>(rows.size()), N = n_primal + n_rows;
   std::vector<Triplet> h;
-  h.reserve(9 * 2 * static_cast<size_t>(F));
-  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n_primal + n_rows);
-  for (Index t = 0; t < F; ++t) {
-    const Tri& tri = mesh.triangles[t];
-    const Vec3 area2 = triangle_normal_area2(mesh, t);
-    const double a2 = area2.norm();
-    if (!(a2 > 1e-24)) {
-      // A zero-area triangle (coincident or collinear corners, as B-rep
-      // tessellations leave at poles and closed gaps) has no gradient to
-      // fit, yet its corners are unknowns. Where the cut isolates a wedge
-      // whose triangles are all such, nothing else fixes its value and the
-      // factorization meets a zero pivot. A faint membrane across the
-      // triangle's edges gives such a wedge the mean of its neighbours (for
-      // coincident corners, the value of its twin: the limit of a shrinking
-      // triangle) and moves nothing where triangles have area.
-      for (int i = 0; i < 3; ++i)
-        for (int axis = 0; axis < 2; ++axis) {
-          const Index x = var(cut.wedge_of(t, i), axis), y = var(cut.wedge_of(t, (i + 1) % 3), axis);
-          if (x >= 0) h.emplace_back(x, x, kDegenerateMembrane);
-          if (y >= 0) h.emplace_back(y, y, kDegenerateMembrane);
-          if (x >= 0 && y >= 0 && x != y) h.emplace_back(std::max(x, y), std::min(x, y), -kDegenerateMembrane);
-        }
-      continue;
-    }
-    std::array<Vec3, 3> g;        // 2A grad(phi_i)
-    for (int i = 0; i < 3; ++i)
-      g[i] = n[t].cross(mesh.positions[tri[(i + 2) % 3]] - mesh.positions[tri[(i + 1) % 3]]);
-    const Vec3 fu = f[t], fv = n[t].cross(f[t]);
-    for (int i = 0; i < 3; ++i) {
-      const Index w = cut.wedge_of(t, i);
-      for (int axis = 0; axis < 2; ++axis) {
-        const Index x = var(w, axis);
-        if (x < 0) continue;
-        rhs[x] += 0.5 * (axis == 0 ? fu : fv).dot(g[i]);
-        for (int j = 0; j < 3; ++j) {
-          const Index y = var(cut.wedge_of(t, j), axis);
-          if (y >= 0 && y <= x) h.emplace_back(x, y, g[i].dot(g[j]) / (2 * a2));
-        }
-      }
-    }
-  }
-
+  Eigen::VectorXd rhs;
+  energy(surface, cut, f, n, unknowns, n_rows, h, rhs);
   lap("energy and constraints");
 
-  // --- Elimination order -----------------------------------------------------
-  // The surface's nested dissection, wedge by wedge (the copies of a vertex
-  // side by side), each wedge's u right before its v, then each constraint
-  // right after its last unknown. Cutting only splits vertices, and a
-  // transition only ties copies of an edge's two ends, so the vertices'
-  // separators still separate the unknowns: the order depends on the mesh
-  // alone and is computed once per surface. (Dissecting the graph of all 2W
-  // unknowns per design, which sees that u and v are two sheets tied only
-  // where a transition turns by an odd quarter, factors some 30% faster but
-  // costs twice that in ordering; minimum degree, per design, costs as much
-  // to order and factors 1.5 times slower.)
-  std::vector<Index> position(n_primal + n_rows);
-  {
-    const std::vector<Index> by_rank = vertex_order.empty() ? vertex_elimination_order(surface) : vertex_order;
-    if (static_cast<Index>(by_rank.size()) != mesh.num_vertices())
-      throw std::invalid_argument("parameterize: the vertex order does not belong to this surface");
-    std::vector<std::vector<Index>> wedges_of(mesh.num_vertices());
-    for (Index w = 0; w < W; ++w) wedges_of[cut.wedge_vertex[w]].push_back(w);
-    std::vector<Index> order;
-    order.reserve(n_primal);
-    for (Index v : by_rank)
-      for (Index w : wedges_of[v])
-        if (slot[w] >= 0) order.push_back(var(w, 0)), order.push_back(var(w, 1));
-    std::vector<Index> rank(n_primal);
-    for (Index k = 0; k < n_primal; ++k) rank[order[k]] = k;
-    std::vector<std::vector<Index>> after(n_primal);
-    for (Index c = 0; c < n_rows; ++c) {
-      Index last = 0;
-      for (int i = 0; i < rows[c].n; ++i) last = std::max(last, rank[rows[c].var[i]]);
-      after[last].push_back(c);
-    }
-    Index next = 0;
-    for (Index k = 0; k < n_primal; ++k) {
-      position[order[k]] = next++;
-      for (Index c : after[k]) position[n_primal + c] = next++;
-    }
-  }
+  const std::vector<Index> position = elimination_positions(surface, cut, unknowns, rows, vertex_order);
   lap("elimination order");
 
-  // --- The KKT system, lower triangle, in elimination order ---------------------------
-  const Index N = n_primal + n_rows;
-  std::vector<Triplet> kkt;
-  kkt.reserve(h.size() + 5 * rows.size());
-  auto put = [&](Index i, Index j, double x) {
-    const Index pi = position[i], pj = position[j];
-    kkt.emplace_back(std::max(pi, pj), std::min(pi, pj), x);
-  };
-  for (const Triplet& x : h) put(x.row(), x.col(), x.value());
-  for (Index c = 0; c < n_rows; ++c) {
-    for (int i = 0; i < rows[c].n; ++i) put(n_primal + c, rows[c].var[i], rows[c].coef[i]);
-    put(n_primal + c, n_primal + c, -kRegularization);
-  }
-  // The triplets go before the factorization, the peak of the solve: some 17 MB at 30K triangles.
-  std::vector<Triplet>().swap(h);
-  SparseMatrix K(N, N);
-  K.setFromTriplets(kkt.begin(), kkt.end());
-  std::vector<Triplet>().swap(kkt);
+  const SparseMatrix K = kkt_matrix(h, rows, position, n_primal);
   Eigen::VectorXd b(N);
   for (Index i = 0; i < N; ++i) b[position[i]] = rhs[i];
   lap("KKT system");
@@ -510,28 +616,16 @@ Parameterization parameterize(const Surface& surface, const CrossField& field, c
   ldlt.compute(K);
   lap("factorization");
 
-  // Solve, then refine against the system without regularization until the
-  // residual is at rounding level (usually one step), or stops shrinking
-  // (rounding in the factors sets a floor near 1e-12; a step that does not
-  // halve the residual only costs a solve).
-  Eigen::VectorXd x = ldlt.solve(b);
   Eigen::VectorXd is_row = Eigen::VectorXd::Zero(N);
   for (Index c = 0; c < n_rows; ++c) is_row[position[n_primal + c]] = 1;
-  const double b_norm = std::max(b.lpNorm<Eigen::Infinity>(), 1e-300);
-  double previous = std::numeric_limits<double>::infinity();
-  for (int step = 0; step < 3; ++step) {
-    Eigen::VectorXd residual = b - K.selfadjointView<Eigen::Lower>() * x;
-    residual -= kRegularization * is_row.cwiseProduct(x);  // undo -d on the constraint block
-    const double r = residual.lpNorm<Eigen::Infinity>();
-    if (r <= 1e-12 * b_norm || !(r < 0.5 * previous)) break;
-    previous = r;
-    x += ldlt.solve(residual);
-  }
+  const Eigen::VectorXd x = refined_solve(K, ldlt, b, is_row);
   lap("solve");
 
-  // --- Output -----------------------------------------------------------------
+  // Output: per triangle its corners' (u, v), fold-overs, transitions, the
+  // loops' values, and the constraints' residual.
   auto coordinates = [&](Index w) {
-    return slot[w] < 0 ? Vec2::Zero() : Vec2(x[position[var(w, 0)]], x[position[var(w, 1)]]);
+    return unknowns.slot[w] < 0 ? Vec2::Zero()
+                                : Vec2(x[position[unknowns.var(w, 0)]], x[position[unknowns.var(w, 1)]]);
   };
   out.uv.resize(F);
   out.flipped.assign(F, 0);
@@ -540,42 +634,7 @@ Parameterization parameterize(const Surface& surface, const CrossField& field, c
     const Vec2 e1 = out.uv[t][1] - out.uv[t][0], e2 = out.uv[t][2] - out.uv[t][0];
     if (e1.x() * e2.y() - e1.y() * e2.x() < 0) out.flipped[t] = 1, ++out.fold_overs;
   }
-
-  // Transitions: the rotation from the combed matching, the translation
-  // from the two copies of the edge's ends (equal up to the residual).
-  double residual = 0;
-  out.transition.assign(E, Transition{});
-  for (Index e = 0; e < E; ++e) {
-    if (!cut.on_cut[e]) continue;
-    const auto [t0, t1] = topo.edge_triangles[e];
-    Transition& tr = out.transition[e];
-    tr.r = mod4(4 - cut.combed_matching[e]);
-    Vec2 ends[2];
-    for (int k = 0; k < 2; ++k) {
-      const Index v = topo.edges[e][k];
-      ends[k] = out.uv[t1][corner_of(mesh.triangles[t1], v)] - turn(out.uv[t0][corner_of(mesh.triangles[t0], v)], tr.r);
-    }
-    tr.tr = 0.5 * (ends[0] + ends[1]);
-    residual = std::max(residual, (ends[0] - ends[1]).norm());
-  }
-
-  // Loops: the value of the across-coordinate at both ends of each segment.
-  out.loop_value.resize(loops.size());
-  out.loop_points_uv.resize(loops.size());
-  for (size_t l = 0; l < loops.size(); ++l) {
-    const LoopPath& lp = loops[l];
-    for (size_t k = 0; k < lp.segments.size(); ++k) {
-      const PathSegment& g = lp.segments[k];
-      const auto& c = out.uv[g.triangle];
-      const Vec3 bp = barycentric_in(surface, lp.path, g.from, g.triangle);
-      const Vec3 bq = barycentric_in(surface, lp.path, g.to, g.triangle);
-      const std::array<Vec2, 2> ends{bp[0] * c[0] + bp[1] * c[1] + bp[2] * c[2], bq[0] * c[0] + bq[1] * c[1] + bq[2] * c[2]};
-      const int axis = out.loop_axis[l][k];
-      out.loop_points_uv[l].push_back(ends);
-      out.loop_value[l].push_back(0.5 * (ends[0][axis] + ends[1][axis]));
-      residual = std::max(residual, std::abs(ends[0][axis] - ends[1][axis]));
-    }
-  }
+  const double residual = std::max(transitions(surface, cut, out), loop_values(surface, loops, out));
   out.constraint_residual = residual;
   if (!(residual <= kResidualTolerance)) {
     std::ostringstream m;
