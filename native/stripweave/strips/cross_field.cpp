@@ -164,41 +164,24 @@ Complex principal_cross(const Surface& s, const TriangleFrames& fr, Index t) {
 }
 
 
-}  // namespace
 
-Vec3 CrossField::direction_turned(const Surface& surface, Index t, int r) const {
-  const double a = theta[t] + r * kQuarterTurn;
-  return std::cos(a) * frame_x[t] + std::sin(a) * normal[t].cross(frame_x[t]);
-}
+// The Levi-Civita connection across each interior edge: field.rho (the
+// rotation from t0's frame to t1's), its fourth power as a unit transport,
+// and the Dirichlet weight (edge length over centroid distance; sliver
+// pairs would get huge weights, so the centroid distance is bounded below
+// and one bad triangle cannot dominate the system).
+struct Connection {
+  std::vector<Complex> transport;  // per edge, exp(4 i rho_e)
+  std::vector<double> weight;      // per edge
+};
 
-std::vector<FieldConstraint> loop_constraints(const std::vector<std::vector<PathSegment>>& loops) {
-  // Unit directions: every segment of a loop counts alike. (compute_cross_field
-  // weights by the direction's length, so callers can pass segment vectors
-  // when a short corner-clipping segment should count less.)
-  std::vector<FieldConstraint> out;
-  for (const auto& segments : loops)
-    for (const PathSegment& seg : segments) out.push_back({seg.triangle, seg.direction});
-  return out;
-}
-
-CrossField compute_cross_field(const Surface& surface, const std::vector<FieldConstraint>& constraints,
-                               const FieldOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
+Connection connection(const Surface& surface, const TriangleFrames& frames, CrossField& field) {
   const TriangleMesh& mesh = surface.mesh;
   const MeshTopology& topo = surface.topology;
-  const Index nt = mesh.num_triangles(), ne = topo.num_edges(), nv = mesh.num_vertices();
-  if (nt == 0) throw InputError("the surface has no triangles: no cross field can be computed");
   const auto& P = mesh.positions;
-
-  CrossField field;
-  const TriangleFrames frames = triangle_frames(surface);
-  field.frame_x = frames.x;
-  field.normal = frames.n;
-
-  // --- connection and Dirichlet weights per interior edge -----------------------
+  const Index nt = mesh.num_triangles(), ne = topo.num_edges();
+  Connection c{std::vector<Complex>(ne, 1.0), std::vector<double>(ne, 0.0)};
   field.rho.assign(ne, 0.0);
-  std::vector<Complex> transport(ne, 1.0);  // exp(4 i rho_e)
-  std::vector<double> weight(ne, 0.0);
   std::vector<Vec3> centroid(nt);
   for (Index t = 0; t < nt; ++t) {
     const Tri& f = mesh.triangles[t];
@@ -213,14 +196,25 @@ CrossField compute_cross_field(const Surface& surface, const std::vector<FieldCo
     const Complex turn = frames.complex(t1, d) * std::conj(frames.complex(t0, d));
     field.rho[e] = std::arg(turn);
     const Complex r = fourth_power(turn);
-    transport[e] = modulus(r) > 0 ? r / modulus(r) : 1.0;
-    // Sliver pairs would get huge weights; the centroid distance is bounded
-    // below so that one bad triangle cannot dominate the system.
+    c.transport[e] = modulus(r) > 0 ? r / modulus(r) : 1.0;
     const double length = d.norm();
-    weight[e] = length > 0 ? length / std::max((centroid[t1] - centroid[t0]).norm(), 0.05 * length) : 1.0;
+    c.weight[e] = length > 0 ? length / std::max((centroid[t1] - centroid[t0]).norm(), 0.05 * length) : 1.0;
   }
+  return c;
+}
 
-  // --- constraints ----------------------------------------------------------------
+// The fixed crosses: a triangle's loops' average, else its creases' (the
+// feature edges with options.features, the boundary with options.boundary),
+// unless they cancel.
+// Sets field.constrained; returns per triangle its representation vector
+// (zero where free).
+std::vector<Complex> fixed_crosses(const Surface& surface, const TriangleFrames& frames,
+                                   const std::vector<FieldConstraint>& constraints, const FieldOptions& options,
+                                   CrossField& field) {
+  const TriangleMesh& mesh = surface.mesh;
+  const MeshTopology& topo = surface.topology;
+  const auto& P = mesh.positions;
+  const Index nt = mesh.num_triangles(), ne = topo.num_edges();
   std::vector<Complex> loop_sum(nt, 0.0), crease_sum(nt, 0.0);
   std::vector<double> loop_weight(nt, 0.0), crease_weight(nt, 0.0);
   for (const FieldConstraint& c : constraints) {
@@ -243,7 +237,6 @@ CrossField compute_cross_field(const Surface& surface, const std::vector<FieldCo
       crease_weight[t] += modulus(r);
     }
   }
-  // A triangle's fixed cross: its loops' average, else its creases'.
   field.constrained.assign(nt, 0);
   std::vector<Complex> u(nt, 0.0);
   for (Index t = 0; t < nt; ++t) {
@@ -255,123 +248,164 @@ CrossField compute_cross_field(const Surface& surface, const std::vector<FieldCo
       field.constrained[t] = 1;
     }
   }
+  return u;
+}
 
-  // --- the principal-curvature prior ------------------------------------------------
-  std::vector<Index> component;
-  const Index nc = triangle_components(topo, nt, component);
-  std::vector<std::uint8_t> has_constraint(nc, 0), umbilic(nc, 0);
-  for (Index t = 0; t < nt; ++t) has_constraint[component[t]] |= field.constrained[t];
-  std::vector<double> area(nt), prior_weight(nt, 0.0);
-  std::vector<Complex> prior_target(nt, 0.0);
-  {
-    const bool has_curvature = surface.d_max.size() == P.size() && surface.k_max.size() == P.size() &&
-                               surface.k_min.size() == P.size();
-    std::vector<double> anisotropy(nc, 0.0), curvature(nc, 0.0);
-    for (Index t = 0; t < nt; ++t) {
-      area[t] = 0.5 * triangle_normal_area2(mesh, t).norm();
-      if (!has_curvature || field.constrained[t]) continue;
-      prior_target[t] = principal_cross(surface, frames, t);
-      anisotropy[component[t]] += area[t] * modulus(prior_target[t]);
-      for (Index v : mesh.triangles[t])
-        curvature[component[t]] += area[t] * (std::abs(surface.k_min[v]) + std::abs(surface.k_max[v])) / 6;
-    }
-    for (Index c = 0; c < nc; ++c) umbilic[c] = !has_constraint[c] && !(anisotropy[c] > kUmbilic * curvature[c]);
-    for (Index t = 0; t < nt; ++t) {
-      const Index c = component[t];
-      const double kappa = modulus(prior_target[t]);
-      if (umbilic[c] || !(kappa > 0)) continue;
-      const double lambda = has_constraint[c] ? options.curvature : std::max(options.curvature, kFallbackPrior);
-      prior_weight[t] = lambda * area[t] * kappa * kappa;
-      prior_target[t] /= kappa;
+// The principal-curvature prior of each free triangle: its weight
+// (lambda A kappa^2) and unit target. A connected component without
+// constraints whose surface is nearly umbilic (anisotropy under kUmbilic of
+// its curvature) gets no prior: its field is the smallest eigenvector.
+struct CurvaturePrior {
+  std::vector<Index> component;  // per triangle
+  Index components = 0;
+  std::vector<std::uint8_t> umbilic;  // per component
+  std::vector<double> area, weight;   // per triangle
+  std::vector<Complex> target;        // per triangle
+};
+
+CurvaturePrior curvature_prior(const Surface& surface, const TriangleFrames& frames, const CrossField& field,
+                               const FieldOptions& options) {
+  const TriangleMesh& mesh = surface.mesh;
+  const auto& P = mesh.positions;
+  const Index nt = mesh.num_triangles();
+  CurvaturePrior prior;
+  prior.components = triangle_components(surface.topology, nt, prior.component);
+  const Index nc = prior.components;
+  std::vector<std::uint8_t> has_constraint(nc, 0);
+  prior.umbilic.assign(nc, 0);
+  for (Index t = 0; t < nt; ++t) has_constraint[prior.component[t]] |= field.constrained[t];
+  prior.area.assign(nt, 0.0);
+  prior.weight.assign(nt, 0.0);
+  prior.target.assign(nt, 0.0);
+  const bool has_curvature =
+      surface.d_max.size() == P.size() && surface.k_max.size() == P.size() && surface.k_min.size() == P.size();
+  std::vector<double> anisotropy(nc, 0.0), curvature(nc, 0.0);
+  for (Index t = 0; t < nt; ++t) {
+    prior.area[t] = 0.5 * triangle_normal_area2(mesh, t).norm();
+    if (!has_curvature || field.constrained[t]) continue;
+    prior.target[t] = principal_cross(surface, frames, t);
+    anisotropy[prior.component[t]] += prior.area[t] * modulus(prior.target[t]);
+    for (Index v : mesh.triangles[t])
+      curvature[prior.component[t]] += prior.area[t] * (std::abs(surface.k_min[v]) + std::abs(surface.k_max[v])) / 6;
+  }
+  for (Index c = 0; c < nc; ++c)
+    prior.umbilic[c] = !has_constraint[c] && !(anisotropy[c] > kUmbilic * curvature[c]);
+  for (Index t = 0; t < nt; ++t) {
+    const Index c = prior.component[t];
+    const double kappa = modulus(prior.target[t]);
+    if (prior.umbilic[c] || !(kappa > 0)) continue;
+    const double lambda = has_constraint[c] ? options.curvature : std::max(options.curvature, kFallbackPrior);
+    prior.weight[t] = lambda * prior.area[t] * kappa * kappa;
+    prior.target[t] /= kappa;
+  }
+  return prior;
+}
+
+// The smoothness energy sum_e w |u1 - r u0|^2 plus the prior, over the free
+// triangles (free_id), as the lower triangle of a Hermitian matrix and its
+// right-hand side; d/d conj(u1) of w |u1 - r u0|^2 is w (u1 - r u0), d/d
+// conj(u0) is w (u0 - conj(r) u1).
+SparseMatrixC free_system(const Surface& surface, const Connection& conn, const CurvaturePrior& prior,
+                          const std::vector<Index>& free_id, Index nf, const std::vector<Complex>& u, VectorC& rhs) {
+  const MeshTopology& topo = surface.topology;
+  const Index nt = surface.mesh.num_triangles();
+  std::vector<Eigen::Triplet<Complex>> entries;
+  entries.reserve(static_cast<size_t>(nf) * 4);
+  std::vector<double> diagonal(nf, 0.0);
+  rhs = VectorC::Zero(nf);
+  for (Index e = 0; e < topo.num_edges(); ++e) {
+    if (topo.is_boundary_edge(e)) continue;
+    const auto [t0, t1] = topo.edge_triangles[e];
+    const Index f0 = free_id[t0], f1 = free_id[t1];
+    if (f0 == kInvalid && f1 == kInvalid) continue;
+    const double w = conn.weight[e];
+    const Complex r = conn.transport[e];
+    if (f0 != kInvalid) diagonal[f0] += w;
+    if (f1 != kInvalid) diagonal[f1] += w;
+    if (f0 != kInvalid && f1 != kInvalid) {
+      if (f1 > f0)
+        entries.emplace_back(f1, f0, -w * r);  // the lower triangle only
+      else
+        entries.emplace_back(f0, f1, -w * std::conj(r));
+    } else if (f1 != kInvalid) {
+      rhs[f1] += w * r * u[t0];
+    } else {
+      rhs[f0] += w * std::conj(r) * u[t1];
     }
   }
+  double mean_diagonal = 0;
+  for (Index t = 0; t < nt; ++t) {
+    const Index f = free_id[t];
+    if (f == kInvalid) continue;
+    diagonal[f] += prior.weight[t];
+    rhs[f] += prior.weight[t] * prior.target[t];
+    mean_diagonal += diagonal[f] / nf;
+  }
+  // A vanishing shift keeps the factorization definite where E has a
+  // kernel (a flat piece without constraints: every parallel field).
+  const double shift = 1e-10 * std::max(mean_diagonal, 1.0);
+  for (Index f = 0; f < nf; ++f) entries.emplace_back(f, f, diagonal[f] + shift);
+  SparseMatrixC A(nf, nf);
+  A.setFromTriplets(entries.begin(), entries.end());
+  return A;
+}
 
-  // --- one sparse Hermitian solve over the free triangles ----------------------------
+// Umbilic components without constraints: the smallest eigenvector, by
+// inverse iteration (mass-weighted) from a fixed start, so the result is
+// deterministic; scaled to a largest |u| of 1, into x.
+template <class Solver>
+void umbilic_fields(const Solver& solver, const CurvaturePrior& prior, const std::vector<Index>& free_id, Index nf,
+                    VectorC& x) {
+  const Index nt = static_cast<Index>(free_id.size()), nc = prior.components;
+  VectorC mass = VectorC::Zero(nf), y = VectorC::Zero(nf);
+  for (Index t = 0; t < nt; ++t) {
+    const Index f = free_id[t];
+    if (f == kInvalid || !prior.umbilic[prior.component[t]]) continue;
+    mass[f] = prior.area[t];
+    y[f] = std::polar(1.0, 2.399963 * t);  // golden-angle phases: no accidental symmetry
+  }
+  for (int it = 0; it < kEigenIterations; ++it) {
+    y = solver.solve(mass.cwiseProduct(y)).eval();
+    const double norm = y.norm();
+    if (!(norm > 0)) break;
+    y /= norm;
+  }
+  std::vector<double> peak(nc, 0.0);
+  for (Index t = 0; t < nt; ++t)
+    if (free_id[t] != kInvalid && prior.umbilic[prior.component[t]])
+      peak[prior.component[t]] = std::max(peak[prior.component[t]], modulus(y[free_id[t]]));
+  for (Index t = 0; t < nt; ++t)
+    if (free_id[t] != kInvalid && prior.umbilic[prior.component[t]] && peak[prior.component[t]] > 0)
+      x[free_id[t]] = y[free_id[t]] / peak[prior.component[t]];
+}
+
+// One sparse Hermitian solve over the free triangles: u there.
+void solve_free_crosses(const Surface& surface, const Connection& conn, const CurvaturePrior& prior,
+                        const CrossField& field, std::vector<Complex>& u) {
+  const Index nt = surface.mesh.num_triangles();
   std::vector<Index> free_id(nt, kInvalid);
   Index nf = 0;
   for (Index t = 0; t < nt; ++t)
     if (!field.constrained[t]) free_id[t] = nf++;
-  if (nf > 0) {
-    std::vector<Eigen::Triplet<Complex>> entries;
-    entries.reserve(static_cast<size_t>(nf) * 4);
-    std::vector<double> diagonal(nf, 0.0);
-    VectorC rhs = VectorC::Zero(nf);
-    for (Index e = 0; e < ne; ++e) {
-      if (topo.is_boundary_edge(e)) continue;
-      const auto [t0, t1] = topo.edge_triangles[e];
-      const Index f0 = free_id[t0], f1 = free_id[t1];
-      if (f0 == kInvalid && f1 == kInvalid) continue;
-      const double w = weight[e];
-      const Complex r = transport[e];
-      // d/d conj(u1) of w |u1 - r u0|^2 is w (u1 - r u0); d/d conj(u0) is w (u0 - conj(r) u1).
-      if (f0 != kInvalid) diagonal[f0] += w;
-      if (f1 != kInvalid) diagonal[f1] += w;
-      if (f0 != kInvalid && f1 != kInvalid) {
-        if (f1 > f0)
-          entries.emplace_back(f1, f0, -w * r);  // the lower triangle only
-        else
-          entries.emplace_back(f0, f1, -w * std::conj(r));
-      } else if (f1 != kInvalid) {
-        rhs[f1] += w * r * u[t0];
-      } else {
-        rhs[f0] += w * std::conj(r) * u[t1];
-      }
-    }
-    double mean_diagonal = 0;
-    for (Index t = 0; t < nt; ++t) {
-      const Index f = free_id[t];
-      if (f == kInvalid) continue;
-      diagonal[f] += prior_weight[t];
-      rhs[f] += prior_weight[t] * prior_target[t];
-      mean_diagonal += diagonal[f] / nf;
-    }
-    // A vanishing shift keeps the factorization definite where E has a
-    // kernel (a flat piece without constraints: every parallel field).
-    const double shift = 1e-10 * std::max(mean_diagonal, 1.0);
-    for (Index f = 0; f < nf; ++f) entries.emplace_back(f, f, diagonal[f] + shift);
+  if (nf == 0) return;
+  VectorC rhs;
+  const SparseMatrixC A = free_system(surface, conn, prior, free_id, nf, u, rhs);
+  // Minimum-degree ordering (AMD): on these dual graphs it fills in less
+  // than a geometric nested dissection (tried: 30% more fill, no faster).
+  Eigen::SimplicialLDLT<SparseMatrixC, Eigen::Lower> solver(A);
+  if (solver.info() != Eigen::Success)
+    throw InputError("the cross field system could not be factorized (degenerate mesh?)");
+  VectorC x = solver.solve(rhs);
+  if (std::any_of(prior.umbilic.begin(), prior.umbilic.end(), [](std::uint8_t b) { return b != 0; }))
+    umbilic_fields(solver, prior, free_id, nf, x);
+  for (Index t = 0; t < nt; ++t)
+    if (free_id[t] != kInvalid) u[t] = x[free_id[t]];
+}
 
-    SparseMatrixC A(nf, nf);
-    A.setFromTriplets(entries.begin(), entries.end());
-    std::vector<Eigen::Triplet<Complex>>().swap(entries);  // not needed by the factorization
-    // Minimum-degree ordering (AMD): on these dual graphs it fills in less
-    // than a geometric nested dissection (tried: 30% more fill, no faster).
-    Eigen::SimplicialLDLT<SparseMatrixC, Eigen::Lower> solver(A);
-    if (solver.info() != Eigen::Success)
-      throw InputError("the cross field system could not be factorized (degenerate mesh?)");
-    VectorC x = solver.solve(rhs);
-
-    // Umbilic components without constraints: the smallest eigenvector, by
-    // inverse iteration (mass-weighted) from a fixed start, so the result is
-    // deterministic; scaled to a largest |u| of 1.
-    bool any_umbilic = false;
-    for (Index c = 0; c < nc; ++c) any_umbilic |= umbilic[c] != 0;
-    if (any_umbilic) {
-      VectorC mass = VectorC::Zero(nf), y = VectorC::Zero(nf);
-      for (Index t = 0; t < nt; ++t) {
-        const Index f = free_id[t];
-        if (f == kInvalid || !umbilic[component[t]]) continue;
-        mass[f] = area[t];
-        y[f] = std::polar(1.0, 2.399963 * t);  // golden-angle phases: no accidental symmetry
-      }
-      for (int it = 0; it < kEigenIterations; ++it) {
-        y = solver.solve(mass.cwiseProduct(y)).eval();
-        const double norm = y.norm();
-        if (!(norm > 0)) break;
-        y /= norm;
-      }
-      std::vector<double> peak(nc, 0.0);
-      for (Index t = 0; t < nt; ++t)
-        if (free_id[t] != kInvalid && umbilic[component[t]])
-          peak[component[t]] = std::max(peak[component[t]], modulus(y[free_id[t]]));
-      for (Index t = 0; t < nt; ++t)
-        if (free_id[t] != kInvalid && umbilic[component[t]] && peak[component[t]] > 0)
-          x[free_id[t]] = y[free_id[t]] / peak[component[t]];
-    }
-    for (Index t = 0; t < nt; ++t)
-      if (free_id[t] != kInvalid) u[t] = x[free_id[t]];
-  }
-
-  // --- crosses from representation vectors -----------------------------------------
+// The crosses from their representation vectors: theta in [0, pi/2), the
+// direction, the strength |u| (at most 1).
+void crosses_of(const TriangleFrames& frames, const std::vector<Complex>& u, CrossField& field) {
+  const Index nt = static_cast<Index>(u.size());
   field.theta.resize(nt);
   field.direction.resize(nt);
   field.strength.resize(nt);
@@ -383,11 +417,15 @@ CrossField compute_cross_field(const Surface& surface, const std::vector<FieldCo
     field.direction[t] = frames.at(t, th);
     field.strength[t] = std::min(modulus(u[t]), 1.0);
   }
+}
 
-  // --- matching and singularities ------------------------------------------------------
-  std::vector<std::uint8_t> on_boundary(nv, 0);
-  for (Index e = 0; e < ne; ++e)
-    if (topo.is_boundary_edge(e)) on_boundary[topo.edges[e][0]] = on_boundary[topo.edges[e][1]] = 1;
+// The matching across each interior edge and the singularities: the
+// vertices around which the field turns by a non-zero number of quarters
+// (the angle defect plus the jumps of the walk around them).
+void matching_and_singularities(const Surface& surface, CrossField& field) {
+  const TriangleMesh& mesh = surface.mesh;
+  const MeshTopology& topo = surface.topology;
+  const Index ne = topo.num_edges(), nv = mesh.num_vertices();
   std::vector<double> turning = angle_defects(surface.mesh, surface.topology);
   field.matching.assign(ne, 0);
   for (Index e = 0; e < ne; ++e) {
@@ -412,7 +450,38 @@ CrossField compute_cross_field(const Surface& surface, const std::vector<FieldCo
     const long quarters = std::lround(turning[v] / kQuarterTurn);
     if (quarters != 0) field.singularities.push_back({v, static_cast<int>(quarters)});
   }
+}
 
+}  // namespace
+
+Vec3 CrossField::direction_turned(const Surface& surface, Index t, int r) const {
+  const double a = theta[t] + r * kQuarterTurn;
+  return std::cos(a) * frame_x[t] + std::sin(a) * normal[t].cross(frame_x[t]);
+}
+
+std::vector<FieldConstraint> loop_constraints(const std::vector<std::vector<PathSegment>>& loops) {
+  // Unit directions: every segment of a loop counts alike. (compute_cross_field
+  // weights by the direction's length, so callers can pass segment vectors
+  // when a short corner-clipping segment should count less.)
+  std::vector<FieldConstraint> out;
+  for (const auto& segments : loops)
+    for (const PathSegment& seg : segments) out.push_back({seg.triangle, seg.direction});
+  return out;
+}
+
+CrossField compute_cross_field(const Surface& surface, const std::vector<FieldConstraint>& constraints,
+                               const FieldOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  if (surface.mesh.num_triangles() == 0) throw InputError("the surface has no triangles: no cross field can be computed");
+  CrossField field;
+  const TriangleFrames frames = triangle_frames(surface);
+  field.frame_x = frames.x;
+  field.normal = frames.n;
+  const Connection conn = connection(surface, frames, field);
+  std::vector<Complex> u = fixed_crosses(surface, frames, constraints, options, field);
+  solve_free_crosses(surface, conn, curvature_prior(surface, frames, field, options), field, u);
+  crosses_of(frames, u, field);
+  matching_and_singularities(surface, field);
   field.solve_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return field;
 }
