@@ -1,7 +1,6 @@
 #include "stripweave/surfacing/fit_patch_network.h"
 
 #include "stripweave/core/error.h"
-#include "stripweave/core/parallel.h"
 #include "stripweave/surface/creases.h"
 #include "stripweave/surfacing/edge_curves.h"
 #include "stripweave/surfacing/fit_deviation.h"
@@ -119,11 +118,6 @@ void report_refinement_measure(const NetworkTopology& topology, const std::vecto
     if (!topology.uses[e].empty()) report.max_edge_deviation = std::max(report.max_edge_deviation, edge_dev[e]);
 }
 
-double angle_deg(const Vec3& a, const Vec3& b) {
-  if (a.isZero() || b.isZero()) return 0;
-  return std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / M_PI;
-}
-
 // The seams, densely: the gap between both patches' sides everywhere, and
 // the normal jump over sharp seams (for reference) and smooth ones (whole,
 // middle, and between two regular vertices, where exactly 4 smooth seams
@@ -151,7 +145,7 @@ void measure_seams(const PatchNetwork& network, const NetworkTopology& topology,
       const Vec2 ub = side_uv(b.side, b.reversed ? 1 - t : t);
       report.max_seam_gap = std::max(report.max_seam_gap, (A.value(ua.x(), ua.y()) - B.value(ub.x(), ub.y())).norm());
       if (k == 0 || k == kSeamSamples - 1) continue;
-      const double angle = angle_deg(A.normal(ua.x(), ua.y()), B.normal(ub.x(), ub.y()));
+      const double angle = normal_jump_deg(A.normal(ua.x(), ua.y()), B.normal(ub.x(), ub.y()));
       if (E.sharp || E.boundary) {
         report.max_sharp_angle_deg = std::max(report.max_sharp_angle_deg, angle);
         continue;

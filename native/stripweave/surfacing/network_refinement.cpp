@@ -56,11 +56,6 @@ void measure_patch(const std::vector<BSplinePatch>& patches, Index p, const std:
   fig.nu = patch.nu, fig.nv = patch.nv;
 }
 
-double angle_deg(const Vec3& a, const Vec3& b) {
-  if (a.isZero() || b.isZero()) return 0;
-  return std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / M_PI;
-}
-
 // The smooth seams (two patches, neither sharp nor boundary), which the
 // coupling joins; the report counts them, the sharp seams and the boundary
 // edges.
@@ -98,7 +93,7 @@ double seam_angle(const std::vector<BSplinePatch>& surfaces, const std::vector<S
     for (int k = 0; k <= 20; ++k) {
       const double t = options.seam_from + (options.seam_to - options.seam_from) * k / 20.0;
       const Vec2 ua = side_uv(sm.side_a, t), ub = side_uv(sm.side_b, sm.b_reversed ? 1 - t : t);
-      worst = std::max(worst, angle_deg(surfaces[sm.a].normal(ua.x(), ua.y()), surfaces[sm.b].normal(ub.x(), ub.y())));
+      worst = std::max(worst, normal_jump_deg(surfaces[sm.a].normal(ua.x(), ua.y()), surfaces[sm.b].normal(ub.x(), ub.y())));
     }
   return worst;
 }
@@ -352,6 +347,11 @@ std::vector<double> Refinement::run() {
 }
 
 }  // namespace
+
+double normal_jump_deg(const Vec3& a, const Vec3& b) {
+  if (a.isZero() || b.isZero()) return 0;
+  return std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / M_PI;
+}
 
 void measure_patch_fits(const std::vector<BSplinePatch>& surfaces, const std::vector<Index>& which,
                         const NetworkTopology& topology, const std::vector<PatchSamples>& samples, double tolerance,

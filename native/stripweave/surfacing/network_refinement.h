@@ -42,6 +42,10 @@ namespace stripweave {
 
 constexpr int kMaxRefinementRounds = 40;  // refinement rounds of one fit
 
+// The angle between two patch normals in degrees, 0 where either is zero (a
+// degenerate point of a patch has no normal to jump): the seam measure.
+double normal_jump_deg(const Vec3& a, const Vec3& b);
+
 // The refinement's own measure of patches `which`: the orthogonal distance
 // of each of its samples from the fitted network (its own patch, and where
 // the foot point lands on its border, the nearest of the patches sharing a

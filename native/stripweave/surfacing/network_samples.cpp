@@ -2,6 +2,7 @@
 
 #include "stripweave/core/error.h"
 #include "stripweave/core/parallel.h"
+#include "stripweave/core/sort_unique.h"
 
 #include <algorithm>
 #include <memory>
@@ -9,12 +10,6 @@
 namespace stripweave {
 
 namespace {
-
-template <typename T>
-void sort_unique(std::vector<T>& v) {
-  std::sort(v.begin(), v.end());
-  v.erase(std::unique(v.begin(), v.end()), v.end());
-}
 
 // Per patch, whether its mesh knows the source face of each triangle (a
 // B-rep source), and then per mesh vertex the faces around it.

@@ -1,19 +1,10 @@
 #include "stripweave/surfacing/network_topology.h"
 
 #include "stripweave/core/error.h"
+#include "stripweave/core/sort_unique.h"
 
-#include <algorithm>
 
 namespace stripweave {
-
-namespace {
-
-void sort_unique(std::vector<Index>& v) {
-  std::sort(v.begin(), v.end());
-  v.erase(std::unique(v.begin(), v.end()), v.end());
-}
-
-}  // namespace
 
 std::string side_name(Index patch, int side) {
   return "side " + std::to_string(side) + " of patch " + std::to_string(patch);
