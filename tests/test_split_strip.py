@@ -26,10 +26,11 @@ def bumpy_box(height, sigma):
     return onto
 
 
-def part(height=1.0, sigma=0.8, grid=40, source_grid=80):
+def part(height=1.0, sigma=0.8, grid=40, source_grid=80, mapping=None):
     """(surface, network): the bumpy box as a mesh source (its 6 faces gridded finely and
-    welded), and its 6-patch layout on a coarser grid, without B-rep faces."""
-    mapping = bumpy_box(height, sigma)
+    welded), and its 6-patch layout on a coarser grid, without B-rep faces. `mapping`: the
+    unit cube onto the part, instead of the bumpy box."""
+    mapping = mapping or bumpy_box(height, sigma)
     fine = cube_network(mapping, grid=source_grid, sharp=True)
     points = np.concatenate([p["vertices"] for p in fine["patches"]])
     offsets = np.cumsum([0] + [len(p["vertices"]) for p in fine["patches"]])[:-1]

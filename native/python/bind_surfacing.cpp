@@ -8,13 +8,15 @@
 //                         "sharp": bool, "boundary": bool}],
 //              "patches": [{"edges": [4 ints], "reversed": [4 bools],
 //                           "vertices": (n,3), "triangles": (m,3),
-//                           "corners": [4 ints], "source_face": (m,) (optional)}]}
+//                           "corners": [4 ints], "source_face": (m,) (optional),
+//                           "even_stretch": bool (optional: its square map
+//                           spreads its area evenly, patch_parameterization.h)}]}
 //   tolerance: model units (None: 1e-3 of the model's bbox diagonal).
 //   progress: an optional Progress: the fit reports its stages to it, and its
 //   cancel() stops the fit with Cancelled (FitOptions::progress).
 //   Keyword options (FitOptions): relative_tolerance, initial_spans,
 //   max_spans, smoothing, seam_weight, seam_mode ('tangent' | 'c1'), tangent_rounds, edge_density, edge_smoothing, parameter_corrections, edge_snap, seam_from,
-//   seam_to, crease_angle_deg, vertex_tangent_planes, split_patches, max_splits,
+//   seam_to, crease_angle_deg, vertex_tangent_planes, even_maps, split_patches, max_splits,
 //   split_rounds, symmetries (design.md's symmetry dicts, model units: the
 //   STEP made exactly symmetric, surfacing/symmetric_fit.h), symmetry_tolerance
 //   (model units), deviation_spacing and
@@ -38,7 +40,8 @@
 //     source_area, fit_max_deviation, fit_rms_deviation, nu, nv, samples,
 //     worst_uv, side_deviation, crease_deg, crease_edges, crease_length,
 //     creased, flipped_fraction, folded, layout_patch (the input patch it
-//     is, or a piece of)}] per patch of the fitted network (more than the
+//     is, or a piece of), even_stretch (its square map: even, not
+//     harmonic)}] per patch of the fitted network (more than the
 //     input's after splits),
 //     max_edge_deviation, tolerance, tolerance_met (both directions within
 //     tolerance and coverage >= 0.999), creased_patches,
@@ -61,7 +64,7 @@
 //     {"nu", "nv", "control": ((nu + 3) * (nv + 3), 3) array, row i along u,
 //     index i * (nv + 3) + j} (the uniform clamped bicubic of bspline.h).
 //     With return_network=True also "network": the network fitted, in the
-//     input's form (the input itself when no split changed it).
+//     input's form (the input itself when no even map or split changed it).
 //   Runs without the GIL. Bad networks raise InputError.
 //
 // fit_deviation(surface, patches, tolerance, spacing=0, chord=0) -> dict
@@ -155,6 +158,7 @@ PatchNetwork network_from(const py::dict& net, double diagonal) {
       auto fr = f.unchecked<1>();
       for (py::ssize_t i = 0; i < fr.shape(0); ++i) P.source_face.push_back(Index(fr(i)));
     }
+    P.even_stretch = p.contains("even_stretch") && py::cast<bool>(p["even_stretch"]);
     n.patches.push_back(std::move(P));
   }
   return n;
@@ -195,7 +199,7 @@ py::dict network_dict(const PatchNetwork& n) {
   }
   for (const NetworkPatch& P : n.patches) {
     py::dict p;
-    p["edges"] = P.edges, p["reversed"] = P.reversed, p["corners"] = P.corners;
+    p["edges"] = P.edges, p["reversed"] = P.reversed, p["corners"] = P.corners, p["even_stretch"] = P.even_stretch;
     p["vertices"] = points_array(P.mesh.positions);
     std::vector<Tri> triangles = P.mesh.triangles;
     p["triangles"] = array_owning<Index>(std::move(triangles), {P.mesh.num_triangles(), py::ssize_t(3)});
@@ -280,6 +284,7 @@ FitOptions options_from(const py::kwargs& kw) {
     else if (key == "deviation_spacing") o.deviation.spacing = py::cast<double>(v);
     else if (key == "deviation_chord") o.deviation.chord = py::cast<double>(v);
     else if (key == "split_patches") o.split_patches = py::cast<bool>(v);
+    else if (key == "even_maps") o.even_maps = py::cast<bool>(v);
     else if (key == "max_splits") o.max_splits = py::cast<int>(v);
     else if (key == "split_rounds") o.split_rounds = py::cast<int>(v);
     else if (key == "symmetries") {
@@ -354,6 +359,7 @@ void bind_surfacing(py::module_& m) {
           p["flipped_fraction"] = f.flipped_fraction;
           p["folded"] = f.folded();
           p["layout_patch"] = f.layout_patch;
+          p["even_stretch"] = f.even_stretch;
           per_patch.append(p);
         }
         d["per_patch"] = per_patch;

@@ -40,7 +40,7 @@ SHELL_KEYS = ("tolerance", "valid_shell", "closed", "volume", "faces")
 PATCH_KEYS = ("max_deviation", "rms_deviation", "max_deviation_source_to_patch", "max_deviation_patch_to_source",
               "rms_deviation_source_to_patch", "rms_deviation_patch_to_source", "source_area",
               "fit_max_deviation", "nu", "nv", "samples", "side_deviation", "crease_deg",
-              "crease_length", "creased", "flipped_fraction", "folded", "layout_patch")
+              "crease_length", "creased", "flipped_fraction", "folded", "layout_patch", "even_stretch")
 # A split of a dual strip where a patch missed the tolerance at its most spans (native
 # split_strip.h): the patch, the layout patch it is, the isoline (direction "u": u = at),
 # why, its deviation then, the patches the split crossed and their new pieces.

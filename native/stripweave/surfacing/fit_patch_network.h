@@ -67,7 +67,19 @@
 //      (the fitted normal opposes the patch mesh's), and whether the
 //      tolerance holds on the patches without creases; then the shell
 //      (patch_shell.h).
-//   6. Splits: where a patch still misses the tolerance at max_spans (or the
+//   6. Even maps: a patch that still misses the tolerance at max_spans (or
+//      the rounds ran out), its own fit samples too, is mapped again with
+//      its stretch spread evenly (NetworkPatch::even_stretch,
+//      patch_parameterization.h: the harmonic map squashes a protrusion,
+//      which evenly spaced knots then cannot resolve), when that could mend
+//      it (the largest stretch lowered by g, even_map_gain, and g^4 at
+//      least its miss over the tolerance: a bicubic's error goes with the
+//      fourth power of the knot spacing), and the network is fitted again. A patch whose own distance (as in the splits, below)
+//      did not fall goes back to its harmonic map; the even maps are kept
+//      when the patches they helped do not raise the network's largest such
+//      distance or fold more patches (or the tolerance is met). Each
+//      patch's map is reported (PatchFitFigures::even_stretch).
+//   7. Splits: where a patch still misses the tolerance at max_spans (or the
 //      rounds ran out), its dual strip is split along an isoline of its
 //      square map (split_strip.h) through the worst sample (kept within the
 //      middle half), across the direction whose spans are longest on the
@@ -83,7 +95,7 @@
 //      ones FitReport::rejected_splits). The refits of one call share their samples:
 //      a patch or edge a split did not touch is not projected again
 //      (sample_memo.h).
-//   7. Symmetry (FitOptions::symmetries, model units; symmetric_fit.h): a
+//   8. Symmetry (FitOptions::symmetries, model units; symmetric_fit.h): a
 //      strip and its image under each symmetry share one span count, and
 //      after the fit each image's control net is the mapped net of its
 //      representative (an element that is its own image: its invariant
@@ -138,11 +150,14 @@ struct FitOptions {
   // isoline of the patch's square map (split_strip.h) and the network is
   // refitted: up to split_rounds times, at most max_splits splits in all.
   bool split_patches = true;
+  // Before splitting, such a patch is tried with a square map of even
+  // stretch (step 6).
+  bool even_maps = true;
   int max_splits = 12;
   int split_rounds = 4;
   // The part's accepted symmetries (model units) and how far a mapped layout
   // vertex or edge midpoint may lie from its image (model units; 0: 1e-3 of
-  // the diagonal, the weave's default): step 7.
+  // the diagonal, the weave's default): step 8.
   std::vector<Symmetry> symmetries;
   double symmetry_tolerance = 0;
   DeviationOptions deviation;        // how the reported deviation is measured (fit_deviation.h)
@@ -164,7 +179,7 @@ struct PatchFitFigures {
   double fit_max_deviation = 0, fit_rms_deviation = 0;
   int nu = 0, nv = 0;  // spans
   Index samples = 0;   // fit samples
-  Vec2 worst_uv = Vec2::Zero();  // harmonic (u, v) of the sample at max_deviation
+  Vec2 worst_uv = Vec2::Zero();  // square-map (u, v) of the sample at max_deviation
   double side_deviation = 0;     // largest deviation of its 4 edge curves from their samples
   // Why a patch may miss the tolerance whatever the spans (patch_creases.h):
   // the layout lays it over a crease, or the fitted surface turns its back
@@ -176,6 +191,7 @@ struct PatchFitFigures {
   double flipped_fraction = 0;
   // The input network's patch this one is (a piece of, after splits).
   Index layout_patch = kInvalid;
+  bool even_stretch = false;  // its square map spreads its area evenly (step 6), not harmonic
   bool creased() const { return over_crease; }
   bool folded() const { return flipped_fraction > 0; }
 };
@@ -216,7 +232,7 @@ struct FitReport {
   bool tolerance_met_uncreased = false;
   int rounds = 0;                     // refinement rounds (of the last fit)
   std::vector<PatchSplit> splits;     // every split of the network fitted, in order (FitOptions::split_patches)
-  // Splits tried and undone: their round's refit did not help (step 6).
+  // Splits tried and undone: their round's refit did not help (step 7).
   std::vector<PatchSplit> rejected_splits;
   Index uncoupled_patches = 0;        // patches left without the seam coupling (tolerance first)
   double max_seam_gap = 0;            // between neighbouring patches' shared sides
@@ -230,7 +246,7 @@ struct FitReport {
   bool valid_shell = false, closed = false;
   double volume = 0;
   double shell_tolerance = 0;
-  // Step 7, with FitOptions::symmetries: whether every symmetry paired the
+  // Step 8, with FitOptions::symmetries: whether every symmetry paired the
   // layout (else why not), and the largest distance between an edge's or
   // patch's mapped control points and its image's (model units) as fitted
   // and as returned.
@@ -246,7 +262,8 @@ struct FitResult {
   std::vector<BSplinePatch> surfaces;      // per network patch
   FitReport report;
   std::shared_ptr<const PatchShell> shell;  // null unless options.build_shell
-  // The network fitted, when splits changed it (null: the input network).
+  // The network fitted, when even maps or splits changed it (null: the
+  // input network).
   std::shared_ptr<const PatchNetwork> network;
 };
 

@@ -134,10 +134,10 @@ void relax_smoothed_border(const PatchNetwork& network, Index p, const SourcePro
   if (known) m.positions = *known;
   else memo.moved.store(key, m.positions);
   NetworkPatch copy;
-  copy.edges = P.edges, copy.reversed = P.reversed, copy.corners = P.corners;
+  copy.edges = P.edges, copy.reversed = P.reversed, copy.corners = P.corners, copy.even_stretch = P.even_stretch;
   copy.mesh = m;
   try {
-    param = harmonic_square_map(copy);
+    param = square_map(copy);
   } catch (const InputError& e) {
     throw InputError("patch " + std::to_string(p) + ": " + e.what());
   }

@@ -1,7 +1,7 @@
 // network_samples: step 2 of fit_patch_network.h, the fit's samples on the
 // exact source.
 //
-// Input   the PatchNetwork and its NetworkTopology, each patch's harmonic
+// Input   the PatchNetwork and its NetworkTopology, each patch's
 //         square map (updated where a patch's border moves, below), the
 //         SourceProjector (the B-rep, or the mesh), FitOptions (edge_density,
 //         edge_smoothing, progress), the SampleMemo of the fits before.

@@ -4,7 +4,7 @@
 //
 // Input   per patch: a BSplinePatch whose span counts are set and whose
 //         boundary control rows already hold the edge curves' control
-//         points; PatchSamples (source points at their harmonic (u, v));
+//         points; PatchSamples (source points at their square map's (u, v));
 //         seams between patches; the thin-plate weight lambda and the seam
 //         weight.
 // Output  the inner control points (depth >= 1 from every side) of the

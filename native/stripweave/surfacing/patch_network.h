@@ -40,6 +40,10 @@ struct NetworkPatch {
   TriangleMesh mesh;
   std::array<Index, 4> corners{kInvalid, kInvalid, kInvalid, kInvalid};
   std::vector<Index> source_face;
+  // Its square map spreads its area evenly instead of being harmonic
+  // (patch_parameterization.h): set by the fit for a patch whose harmonic
+  // map squashes a protrusion; a split's pieces inherit it.
+  bool even_stretch = false;
 };
 
 struct PatchNetwork {

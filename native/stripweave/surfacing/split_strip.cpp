@@ -245,7 +245,7 @@ void cut_triangles(const NetworkPatch& P, Isoline& iso, PieceBuilder& lower, Pie
 
 Pieces cut_patch(const NetworkPatch& P, const Crossing& x, const std::map<Index, EdgeCut>& cuts) {
   const int d = x.direction;
-  Isoline iso = isoline(P, harmonic_square_map(P), x, cuts);
+  Isoline iso = isoline(P, square_map(P), x, cuts);
   PieceBuilder lower{P, iso.positions, {}, {}}, upper{P, iso.positions, {}, {}};
   cut_triangles(P, iso, lower, upper);
   const auto& C = P.corners;
@@ -257,10 +257,11 @@ Pieces cut_patch(const NetworkPatch& P, const Crossing& x, const std::map<Index,
     lower.set_corners({C[0], C[1], A, B});
     upper.set_corners({B, A, C[2], C[3]});
   }
+  lower.piece.even_stretch = upper.piece.even_stretch = P.even_stretch;
   Pieces out;
   // The cut is side 1 (direction 0) or side 2 (direction 1) of the lower
   // piece, from A to B.
-  const PatchParameterization lower_map = harmonic_square_map(lower.piece);
+  const PatchParameterization lower_map = square_map(lower.piece);
   for (Index v : lower_map.side_vertices[d == 0 ? 1 : 2]) out.cut.push_back(lower.piece.mesh.positions[v]);
   out.lower = std::move(lower.piece);
   out.upper = std::move(upper.piece);
@@ -303,7 +304,7 @@ void set_side(NetworkPatch& piece, int s, std::pair<Index, bool> edge) {
 
 // A piece is a quad disc whose sides carry their edges' points.
 void check_piece(const PatchNetwork& net, const NetworkPatch& piece) {
-  const PatchParameterization map = harmonic_square_map(piece);
+  const PatchParameterization map = square_map(piece);
   for (int s = 0; s < 4; ++s)
     if (map.side_vertices[s].size() != net.edges[piece.edges[s]].points.size())
       throw InputError("a piece's side does not carry its edge's points");
