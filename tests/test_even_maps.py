@@ -20,6 +20,44 @@ def knob():
     return part(height=3.0, sigma=1.2)
 
 
+def uv_areas(uv, triangles):
+    a, b = uv[triangles[:, 1]] - uv[triangles[:, 0]], uv[triangles[:, 2]] - uv[triangles[:, 0]]
+    return 0.5 * (a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])
+
+
+def test_the_even_map_gives_the_knob_its_share_of_the_square(knob):
+    """The top patch's two maps: both bijections onto the unit square with the same
+    boundary; the knob's top (above half its height) holds 9 % of the patch's area, the
+    harmonic map gives it 3.4 % of the square, the even map at least 1.5 times that and
+    nearer its 9 %."""
+    _, net = knob
+    patch = net["patches"][TOP]
+    V, F = np.asarray(patch["vertices"]), np.asarray(patch["triangles"])
+    harmonic, gain = native.square_map(dict(patch, even_stretch=False))
+    even, gain_again = native.square_map(dict(patch, even_stretch=True))
+    assert gain == gain_again > 1.4
+    for uv in (harmonic, even):
+        assert (uv_areas(uv, F) > 0).all()  # counter-clockwise, none folded
+        assert uv_areas(uv, F).sum() == pytest.approx(1.0, abs=1e-9)
+        assert uv.min() >= 0 and uv.max() <= 1
+    border = ((harmonic <= 1e-12) | (harmonic >= 1 - 1e-12)).any(axis=1)
+    assert np.abs(even[border] - harmonic[border]).max() < 1e-12  # the sides are pinned alike
+    area = 0.5 * np.linalg.norm(np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]]), axis=1)
+    top = V[F].mean(axis=1)[:, 2] > 10 + 1.5
+    share = area[top].sum() / area.sum()
+    in_harmonic, in_even = uv_areas(harmonic, F)[top].sum(), uv_areas(even, F)[top].sum()
+    assert in_even > 1.5 * in_harmonic and abs(in_even - share) < abs(in_harmonic - share)
+
+
+def test_a_flat_patch_has_one_map(knob):
+    """The bottom face is flat and square: its harmonic map spreads it evenly already, so
+    the even map is the same map, and its gain is 1."""
+    _, net = knob
+    harmonic, _ = native.square_map(dict(net["patches"][0], even_stretch=False))
+    even, gain = native.square_map(dict(net["patches"][0], even_stretch=True))
+    assert np.array_equal(harmonic, even) and gain == pytest.approx(1.0, abs=1e-9)
+
+
 def test_the_harmonic_map_leaves_a_knob_unresolved(knob):
     surface, net = knob
     r = native.refit(surface, net, split_patches=False, even_maps=False)

@@ -78,6 +78,13 @@
 //   source_area}]); max_patch_triangles (0: the default) caps the patch
 //   tessellation.
 //
+// square_map(patch) -> ((n, 2) array, gain)
+//   patch = {"vertices", "triangles", "corners", "even_stretch" (optional)}
+//   as in refit's network: its square map, harmonic or (even_stretch) with
+//   its stretch spread evenly, per vertex (surfacing/patch_parameterization.h),
+//   and even_map_gain: the harmonic map's largest per-vertex L2 stretch over
+//   the even map's. For tests.
+//
 // project_to_face(surface, face, points, near=0) -> (n, 3) array
 //   the points' foot points on B-rep face `face` of the surface's source
 //   (occt/brep_source.h's project_to_face, on a copy of the B-rep of its
@@ -91,6 +98,7 @@
 #include "stripweave/occt/brep_source.h"
 #include "stripweave/surface/surface.h"
 #include "stripweave/surfacing/fit_patch_network.h"
+#include "stripweave/surfacing/patch_parameterization.h"
 #include "stripweave/surfacing/patch_shell.h"
 
 #include <pybind11/numpy.h>
@@ -121,6 +129,25 @@ py::object item(const py::dict& d, const char* key, const char* what) {
   return d[key];
 }
 
+// A patch's mesh, corners and map from its dict (network_from's form; the
+// edges are left to the caller).
+NetworkPatch patch_mesh_from(const py::dict& p) {
+  NetworkPatch P;
+  P.corners = fixed_list<4, Index>(item(p, "corners", "a patch"), "patch corners");
+  P.mesh.positions = points_from(item(p, "vertices", "a patch"), "patch vertices");
+  const ArrayI t = py::cast<ArrayI>(item(p, "triangles", "a patch"));
+  if (t.ndim() != 2 || t.shape(1) != 3) throw InputError("patch triangles must be an (m, 3) array");
+  auto tr = t.unchecked<2>();
+  for (py::ssize_t i = 0; i < tr.shape(0); ++i) {
+    Tri f{Index(tr(i, 0)), Index(tr(i, 1)), Index(tr(i, 2))};
+    for (Index v : f)
+      if (v < 0 || v >= P.mesh.num_vertices()) throw InputError("a patch triangle names a vertex that does not exist");
+    P.mesh.triangles.push_back(f);
+  }
+  P.even_stretch = p.contains("even_stretch") && py::cast<bool>(p["even_stretch"]);
+  return P;
+}
+
 PatchNetwork network_from(const py::dict& net, double diagonal) {
   PatchNetwork n;
   n.bbox_diagonal = diagonal;
@@ -137,28 +164,16 @@ PatchNetwork network_from(const py::dict& net, double diagonal) {
   }
   for (const py::handle& ph : py::cast<py::list>(item(net, "patches", "network"))) {
     const py::dict p = py::cast<py::dict>(ph);
-    NetworkPatch P;
+    NetworkPatch P = patch_mesh_from(p);
     P.edges = fixed_list<4, Index>(item(p, "edges", "a patch"), "patch edges");
     P.reversed = fixed_list<4, bool>(item(p, "reversed", "a patch"), "patch reversed");
-    P.corners = fixed_list<4, Index>(item(p, "corners", "a patch"), "patch corners");
-    P.mesh.positions = points_from(item(p, "vertices", "a patch"), "patch vertices");
-    const ArrayI t = py::cast<ArrayI>(item(p, "triangles", "a patch"));
-    if (t.ndim() != 2 || t.shape(1) != 3) throw InputError("patch triangles must be an (m, 3) array");
-    auto tr = t.unchecked<2>();
-    for (py::ssize_t i = 0; i < tr.shape(0); ++i) {
-      Tri f{Index(tr(i, 0)), Index(tr(i, 1)), Index(tr(i, 2))};
-      for (Index v : f)
-        if (v < 0 || v >= P.mesh.num_vertices()) throw InputError("a patch triangle names a vertex that does not exist");
-      P.mesh.triangles.push_back(f);
-    }
     if (p.contains("source_face") && !p["source_face"].is_none()) {
       const ArrayI f = py::cast<ArrayI>(p["source_face"]);
-      if (f.ndim() != 1 || f.shape(0) != tr.shape(0))
+      if (f.ndim() != 1 || f.shape(0) != P.mesh.num_triangles())
         throw InputError("patch source_face must hold one face id per triangle");
       auto fr = f.unchecked<1>();
       for (py::ssize_t i = 0; i < fr.shape(0); ++i) P.source_face.push_back(Index(fr(i)));
     }
-    P.even_stretch = p.contains("even_stretch") && py::cast<bool>(p["even_stretch"]);
     n.patches.push_back(std::move(P));
   }
   return n;
@@ -304,6 +319,14 @@ FitOptions options_from(const py::kwargs& kw) {
 }  // namespace
 
 void bind_surfacing(py::module_& m) {
+  m.def("square_map", [](const py::dict& patch) {
+        const NetworkPatch P = patch_mesh_from(patch);
+        const PatchParameterization map = square_map(P);
+        py::array_t<double> uv({static_cast<py::ssize_t>(map.uv.size()), py::ssize_t(2)});
+        auto u = uv.mutable_unchecked<2>();
+        for (size_t i = 0; i < map.uv.size(); ++i) u(i, 0) = map.uv[i].x(), u(i, 1) = map.uv[i].y();
+        return py::make_tuple(uv, even_map_gain(P));
+      }, py::arg("patch"));
   m.def("project_to_face", [](const Surface& surface, Index face, const py::array_t<double>& points, double near) {
         if (!surface.brep) throw InputError("project_to_face: the surface has no B-rep source");
         if (face < 0 || face >= surface.brep->num_faces()) throw InputError("project_to_face: no such face");
