@@ -277,10 +277,10 @@ struct SplitChoice {
   std::string reason;
 };
 
-// The mendable misses, worst first. The cut refines the saturated direction, or, both saturated, the
-// one whose spans are longer on the part; it runs through the worst
-// sample, kept within the middle half of the patch so that both pieces
-// get a fair share of it.
+// The mendable misses, worst first. The cut refines the saturated
+// direction, or, both saturated, the one whose spans are longer on the
+// part; it runs through the worst sample, kept within the middle half of
+// the patch so that both pieces get a fair share of it.
 std::vector<SplitChoice> split_choices(const PatchNetwork& net, const FitReport& report, const FitOptions& options) {
   std::vector<SplitChoice> out;
   const double tol = report.tolerance;
@@ -443,7 +443,6 @@ void split_and_refit(const Surface& surface, const PatchNetwork& network, const 
 // costs the whole network a refit (the corpus: of the patches it gates out,
 // gain 1.0 to 1.05 on misses of 1.1 to 2.9 times the tolerance, none came
 // closer).
-
 std::shared_ptr<PatchNetwork> even_maps_and_refit(const Surface& surface, const PatchNetwork& network,
                                                   const FitOptions& options, FitResult& result, SampleMemo& memo,
                                                   double& other_fits_ms) {

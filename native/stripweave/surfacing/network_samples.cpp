@@ -133,9 +133,8 @@ void relax_smoothed_border(const PatchNetwork& network, Index p, const SourcePro
   }
   if (known) m.positions = *known;
   else memo.moved.store(key, m.positions);
-  NetworkPatch copy;
-  copy.edges = P.edges, copy.reversed = P.reversed, copy.corners = P.corners, copy.even_stretch = P.even_stretch;
-  copy.mesh = m;
+  NetworkPatch copy = P;  // the patch, its border moved
+  copy.mesh.positions = m.positions;
   try {
     param = square_map(copy);
   } catch (const InputError& e) {

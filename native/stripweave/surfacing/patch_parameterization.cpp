@@ -152,13 +152,15 @@ constexpr double kMaxStretch = 1e3;
 
 struct MapStretch {
   std::vector<double> triangle;  // per triangle
+  std::vector<double> area;      // per triangle, on the part
   double l2 = 0;                 // over the patch, weighted by surface area
 };
 
 MapStretch map_stretch(const TriangleMesh& m, const std::vector<Vec2>& uv) {
   MapStretch s;
   s.triangle.resize(m.triangles.size());
-  std::vector<double> area(m.triangles.size());
+  std::vector<double>& area = s.area;
+  area.resize(m.triangles.size());
   double area_3d = 0;
   for (size_t t = 0; t < m.triangles.size(); ++t) {
     const Tri& f = m.triangles[t];
@@ -228,39 +230,54 @@ void equalize_stretch(const TriangleMesh& m, InteriorSolve& interior, std::map<E
 double max_vertex_stretch(const TriangleMesh& m, const std::vector<Vec2>& uv) {
   const MapStretch s = map_stretch(m, uv);
   std::vector<double> sum(m.num_vertices(), 0.0), area(m.num_vertices(), 0.0);
-  for (size_t t = 0; t < m.triangles.size(); ++t) {
-    const Tri& f = m.triangles[t];
-    const double a = 0.5 * (m.positions[f[1]] - m.positions[f[0]]).cross(m.positions[f[2]] - m.positions[f[0]]).norm();
-    for (Index v : f) sum[v] += a * s.triangle[t] * s.triangle[t], area[v] += a;
-  }
+  for (size_t t = 0; t < m.triangles.size(); ++t)
+    for (Index v : m.triangles[t]) sum[v] += s.area[t] * s.triangle[t] * s.triangle[t], area[v] += s.area[t];
   double worst = 0;
   for (Index v = 0; v < m.num_vertices(); ++v)
     if (area[v] > 0) worst = std::max(worst, std::sqrt(sum[v] / area[v]));
   return worst;
 }
 
-}  // namespace
 
-double even_map_gain(const NetworkPatch& patch) {
-  NetworkPatch harmonic = patch, even = patch;
-  harmonic.even_stretch = false, even.even_stretch = true;
-  const double after = max_vertex_stretch(patch.mesh, square_map(even).uv);
-  return after > 0 ? max_vertex_stretch(patch.mesh, square_map(harmonic).uv) / after : 1.0;
+// Steps 1 to 3 (the harmonic map); `even`: step 4 too. `harmonic_stretch`,
+// when given, gets the harmonic map's largest per-vertex stretch.
+PatchParameterization map_onto_square(const NetworkPatch& patch, bool even, double* harmonic_stretch = nullptr) {
+  const TriangleMesh& m = patch.mesh;
+  PatchParameterization out = square_sides(patch);
+  std::vector<bool> fixed(m.num_vertices(), false);
+  for (const auto& side : out.side_vertices)
+    for (Index v : side) fixed[v] = true;
+  InteriorSolve interior(fixed);
+  if (interior.num_free() > 0) {
+    const std::map<EdgeKey, double> weight = clamped_cotangent_weights(m);
+    interior.solve(weight, out.uv);
+    if (harmonic_stretch) *harmonic_stretch = max_vertex_stretch(m, out.uv);
+    if (even) equalize_stretch(m, interior, weight, out.uv);
+  } else if (harmonic_stretch) {
+    *harmonic_stretch = max_vertex_stretch(m, out.uv);
+  }
+  return out;
 }
 
-PatchParameterization square_map(const NetworkPatch& patch) {
+}  // namespace
+
+PatchParameterization square_sides(const NetworkPatch& patch) {
   const TriangleMesh& m = patch.mesh;
   if (m.num_triangles() == 0) throw InputError("patch has an empty triangle mesh");
   for (Index c : patch.corners)
     if (c < 0 || c >= m.num_vertices()) throw InputError("patch corner is not a vertex of its mesh");
   PatchParameterization out;
-  const std::vector<bool> fixed = pin_boundary(patch, out);
-  InteriorSolve interior(fixed);
-  if (interior.num_free() == 0) return out;
-  const std::map<EdgeKey, double> weight = clamped_cotangent_weights(m);
-  interior.solve(weight, out.uv);
-  if (patch.even_stretch) equalize_stretch(m, interior, weight, out.uv);
+  pin_boundary(patch, out);
   return out;
+}
+
+PatchParameterization square_map(const NetworkPatch& patch) { return map_onto_square(patch, patch.even_stretch); }
+
+double even_map_gain(const NetworkPatch& patch) {
+  double harmonic = 0;
+  const PatchParameterization even = map_onto_square(patch, true, &harmonic);
+  const double after = max_vertex_stretch(patch.mesh, even.uv);
+  return after > 0 ? harmonic / after : 1.0;
 }
 
 }  // namespace stripweave

@@ -44,6 +44,11 @@ struct PatchParameterization {
 
 PatchParameterization square_map(const NetworkPatch& patch);
 
+// Only the sides: side_vertices, side_t and the boundary's uv (the interior
+// uv left at 0), with the same checks; for a caller that needs the
+// boundary walk and not the map (a split's cut, a piece's check).
+PatchParameterization square_sides(const NetworkPatch& patch);
+
 // How much a protrusion the harmonic map squashes: the largest L2 stretch of
 // the patch's harmonic map over that of its even map (>= 1 where the even
 // map spreads the patch better). Each stretch is per vertex, the RMS over its

@@ -261,7 +261,7 @@ Pieces cut_patch(const NetworkPatch& P, const Crossing& x, const std::map<Index,
   Pieces out;
   // The cut is side 1 (direction 0) or side 2 (direction 1) of the lower
   // piece, from A to B.
-  const PatchParameterization lower_map = square_map(lower.piece);
+  const PatchParameterization lower_map = square_sides(lower.piece);
   for (Index v : lower_map.side_vertices[d == 0 ? 1 : 2]) out.cut.push_back(lower.piece.mesh.positions[v]);
   out.lower = std::move(lower.piece);
   out.upper = std::move(upper.piece);
@@ -304,7 +304,7 @@ void set_side(NetworkPatch& piece, int s, std::pair<Index, bool> edge) {
 
 // A piece is a quad disc whose sides carry their edges' points.
 void check_piece(const PatchNetwork& net, const NetworkPatch& piece) {
-  const PatchParameterization map = square_map(piece);
+  const PatchParameterization map = square_sides(piece);
   for (int s = 0; s < 4; ++s)
     if (map.side_vertices[s].size() != net.edges[piece.edges[s]].points.size())
       throw InputError("a piece's side does not carry its edge's points");
