@@ -1105,7 +1105,7 @@ def test_red_seed_points_are_asked_again_once_the_other_colours_are_done():
     """The red annulus's seed point gives nothing until a crease strip changes its
     neighbourhood. Once the crease regions are done its seed points are asked once more, and
     the design ends valid (before, the point stayed skipped and weaving ended with no layout)."""
-    options = WeaveOptions(refine=False)
+    options = WeaveOptions(refine=False, take_back=False)   # the colour phases alone
     w = _ScriptedWeave(options, creases=1, max_strips=10)
     result = _weave(w, w, options)
     assert [s.name for s in w.design.strips] == ["crease 0", "red"]
@@ -1116,8 +1116,62 @@ def test_other_colours_leave_room_under_the_cap_for_the_cuts_red_regions_need():
     """Two crease regions and a cap of 2 strips, with the red annulus (one cut) still red: the
     crease phase stops at one strip, leaving the last one to the cut, and the design ends
     valid (before, both crease strips took the cap and weaving ended invalid)."""
-    options = WeaveOptions(refine=False)
+    options = WeaveOptions(refine=False, take_back=False)   # the colour phases alone
     w = _ScriptedWeave(options, creases=2, max_strips=2)
     result = _weave(w, w, options)
     assert [s.name for s in w.design.strips] == ["crease 0", "red"]
     assert result.assessment["colours"]["red"] == 0 and result.stopped == "max strips"
+
+
+def _sphere_with_three_close_belts(R=5.0, h=0.5):
+    """A sphere with two meridians (x = 0, y = 0) and three parallel belts at z = -h, 0, h,
+    allowed beside one another by a compatibility band of 0.1. The patches dual to the middle
+    belt's crossings are h high, under two solver edges: degenerate (layout_defects.h)."""
+    design = Design(options={"compatibility_band": 0.1})
+    design.add_strip([(R, 0, 0, 0, 1, 0)])           # the equator
+    design.add_strip([(0, R, 0, 0, 0, 1)])           # the meridian x = 0
+    design.add_strip([(R, 0, 0, 0, 0, 1)])           # the meridian y = 0
+    r = math.sqrt(R * R - h * h)
+    design.add_strip([(-r, 0, h, 0, -1, 0)])
+    design.add_strip([(-r, 0, -h, 0, 1, 0)])
+    return DesignSession(sw.from_shape(Part.makeSphere(R), target_triangles=8000), design)
+
+
+def _take_back_added(ds, user_strips):
+    """Run the take-back phase on ds as if weaving had added every strip past user_strips."""
+    import time
+    from stripweave.weave import WeaveResult, _take_back, _Weaver
+    w = _Weaver(ds, WeaveOptions())
+    w.user_strips = user_strips
+    result = WeaveResult()
+    start = time.perf_counter()
+    _take_back(w, ds, WeaveOptions(), native.weave_assessment(ds.native, [], 1), result,
+               lambda: time.perf_counter() - start)
+    return result
+
+
+def test_a_strip_that_leaves_slivers_is_taken_back():
+    """Three belts side by side: the middle one's patches are slivers, and no strip added
+    later mends them. The last phase takes back the strip the layout is cleaner without
+    (_take_back): one belt goes, the sliver patches merge into their neighbours, and the
+    layout is clean with both meridians and two belts (10 patches, none degenerate)."""
+    ds = _sphere_with_three_close_belts()
+    before = compute_layout(ds)
+    assert before["valid"] and before["defects"]["degenerate_patches"] >= 4 and not before["clean"]
+    result = _take_back_added(ds, 0)
+    after = compute_layout(ds)
+    assert after["valid"] and after["clean"]
+    assert len(ds.design.strips) == 4 and len(after["patches"]) == 10
+    # The meridians stay; of the three belts, two remain, 2h apart or more.
+    zs = sorted(round(s.anchors[0].to_list()[2], 6) for s in ds.design.strips if abs(s.anchors[0].to_list()[5]) < 0.5)
+    assert len(zs) == 2 and zs[1] - zs[0] >= 0.5 - 1e-6
+    (taken,) = result.taken_back
+    assert taken["defective_area"][0] > 0 and taken["defective_area"][1] == 0
+
+
+def test_the_users_strips_are_never_taken_back():
+    """The same sliver layout, every strip the user's: the phase leaves the design as it is."""
+    ds = _sphere_with_three_close_belts()
+    result = _take_back_added(ds, 5)
+    assert len(ds.design.strips) == 5 and result.taken_back == []
+    assert compute_layout(ds)["defects"]["degenerate_patches"] >= 4

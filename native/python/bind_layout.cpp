@@ -59,10 +59,11 @@
 //   The same for loops of a LoopSession with given singularities (as
 //   regions() takes them): a layout of loops that no design's compatibility
 //   constrained, e.g. parallel loops of a denser layout.
-// DesignState.layout_with(extra_loops, details=False) -> dict
-//   layout() of the design with these loops added, under the design's
-//   current singularities (no field or parameterization solve): what
-//   automatic weaving predicts a candidate strip by.
+// DesignState.layout_with(extra_loops, details=False, without=[]) -> dict
+//   layout() of the design with these loops added and the loops of the
+//   strips `without` (indices) left out, under the design's current
+//   singularities (no field or parameterization solve): what automatic
+//   weaving predicts a candidate strip, or taking one back, by.
 // DesignState.patch_network() -> the layout as surfacing takes it
 //   (surfacing/patch_network.h): {"vertices", "edges": [{"points",
 //   "vertices", "sharp", "boundary"}], "patches": [{"edges", "reversed",
@@ -75,6 +76,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 
@@ -151,11 +153,14 @@ DesignLayout layout_of(const Surface& s, std::vector<LoopPath>& paths, const std
   return out;
 }
 
-// The design's loops (their embedded paths, kept with the strips) and
-// `extra` loops, under the design's singularities.
-DesignLayout design_layout(const DesignState& d, bool primal, const std::vector<Loop>& extra = {}) {
+// The design's loops (their embedded paths, kept with the strips) but those
+// of the strips `without`, and `extra` loops, under the design's singularities.
+DesignLayout design_layout(const DesignState& d, bool primal, const std::vector<Loop>& extra = {},
+                           const std::vector<Index>& without = {}) {
   std::vector<LoopPath> paths;
-  for (const DesignStrip& st : d.strips()) paths.push_back(st.path);
+  for (size_t i = 0; i < d.strips().size(); ++i)
+    if (std::find(without.begin(), without.end(), static_cast<Index>(i)) == without.end())
+      paths.push_back(d.strips()[i].path);
   for (const Loop& loop : extra) paths.push_back(loop_path(d.session(), loop));
   return layout_of(d.surface(), paths, d.field().singularities, primal, d.vertex_pins(), d.layout_symmetries(),
                    d.edge_routes());
@@ -325,18 +330,18 @@ void bind_layout(py::module_& m, py::class_<DesignState, std::shared_ptr<DesignS
       "The regions and primal quad layout of loops (paper §7; model units)");
   state.def(
       "layout_with",
-      [](const DesignState& d, const std::vector<Loop>& extra, bool details) {
+      [](const DesignState& d, const std::vector<Loop>& extra, bool details, const std::vector<Index>& without) {
         DesignLayout dl;
         {
           stripweave_python::NativeCall release;
-          dl = design_layout(d, true, extra);
+          dl = design_layout(d, true, extra, without);
         }
         return layout_dict(d.surface(), d.field().singularities, dl, details);
       },
-      py::arg("extra_loops"), py::arg("details") = false,
-      "The layout the design would have with these loops added, under its current singularities (no solve); "
-      "the same as layout(session, design loops + extra_loops, the design's singularities), without embedding "
-      "the design's loops again");
+      py::arg("extra_loops"), py::arg("details") = false, py::arg("without") = std::vector<Index>(),
+      "The layout the design would have with these loops added and the strips `without` left out, under its "
+      "current singularities (no solve); the same as layout(session, design loops but those + extra_loops, the "
+      "design's singularities), without embedding the design's loops again");
   state.def(
       "regions",
       [](const DesignState& d, bool details) {

@@ -18,7 +18,8 @@ quad layout, layout.compute_layout) -> files. With `out`, writes
     patches.step  with step=True, when the build has the surfacing stage
     deviation.png with step=True: the patches coloured by their fit's deviation (preview.py)
 The returned dict is report.json's content plus "paths", "log" (one entry per added
-strip), "stopped" (why weaving ended), "work" (units spent, weave.py),
+strip), "taken_back" (per added strip weaving took back at the end, weave._take_back),
+"stopped" (why weaving ended), "work" (units spent, weave.py),
 "defect_locations" (layout.json's, for the CLI to say where), "why_red" (an invalid
 layout: which red regions remain, where, and what to try; else None), "why_crease" (the
 same for the crease regions of a valid layout that is not crease-conforming) and
@@ -248,13 +249,14 @@ def weave(model, design=None, auto=True, out=None, max_strips=None, patches=0, f
     given = len(design.strips)
     ds = DesignSession(surface, design, loop_session=loop_session, features=features)
     lap("design")
-    log, stopped, work, cancelled = [], "not asked (auto off)", 0.0, 0
+    log, stopped, work, cancelled, taken_back = [], "not asked (auto off)", 0.0, 0, []
     cap = max_strips        # the strip cap weaving had (why_red's hint; "max strips" needs auto)
     if auto:
         result = auto_weave(ds, WeaveOptions(max_strips=max_strips, patches=patches, seed=seed, verbose=verbose,
                                              symmetry=tuple(symmetries), symmetry_tolerance=symmetry_tolerance,
                                              **weave_options))
         log, stopped, work, cancelled = result.log, result.stopped, result.work, result.cancelled_queries
+        taken_back = result.taken_back
         cap = result.max_strips
     # No loop query follows: the search scratch space (as large as g') goes back before the
     # layout needs its memory.
@@ -344,6 +346,7 @@ def weave(model, design=None, auto=True, out=None, max_strips=None, patches=0, f
         raise step_error
     say(f"{report['strips']} strips ({given} given), {report['patches']} patches, "
         f"{'valid' if report['valid'] else 'INVALID'}, {timings['total'] / 1000:.1f} s")
-    return {**report, "paths": paths, "log": log, "stopped": stopped, "work": work, "cancelled_queries": cancelled,
+    return {**report, "paths": paths, "log": log, "taken_back": taken_back, "stopped": stopped, "work": work,
+            "cancelled_queries": cancelled,
             "defect_locations": layout.get("defect_locations", []), "why_red": red_text, "why_crease": crease_text,
             "surface": surface, "design": ds.design}

@@ -65,6 +65,11 @@ open boundary or cross patchless discs have one budget of their own, _Weaver.qua
 never takes a strip that leaves a red region, more crease excess, more crease inside
 patches, or more defective patches and vertices, whatever the corners gain.
 
+Last, weaving takes back what it added and the layout is cleaner without (_take_back):
+a strip judged good where it was added can come to bound slivers once later strips run
+beside it or cross near its crossings, and only its removal merges them away (a cow's 24
+degenerate patches went to 1, and its 96 patches to 58). One budget of its own.
+
 Validity comes first to the end. While a region is red, the other colours leave room under
 the strip cap for the cuts the red regions still need (cuts_to_discs), and when they are
 done (or out of that room) with a region still red, the red seed points are asked once
@@ -93,6 +98,7 @@ deterministically. The same design and options always give the same result. All 
 (regions, centres, uncovered areas, anchors, layouts) is native (`weave_assessment`,
 `loop_anchor`, `compute_layout`); this module only decides.
 """
+import copy
 import math
 import os
 import sys
@@ -140,6 +146,8 @@ class WeaveOptions:
     refine_patches: int = 160       # ... and the layout has fewer patches than this (0: no limit)
     refine_query_polls: int = 100   # ... its loop queries stopped past this work (0: query_polls)
     refine_candidates: int = 2      # ... predicting this many candidate strips per added one, the best derived
+    take_back: bool = True          # last, take back added strips the layout is cleaner without (_take_back)
+    take_back_share: float = 1.0    # ... spending at most this share of the budget on it
     query_polls: int = 400          # a loop query doing more work is stopped (no proposal there; 0: no cap)
     seed_directions: str = "adaptive"   # at a seed point: "all" (the best loop over all directions, the
                                     # principal directions where it gives none), "principal" (the loops
@@ -190,6 +198,7 @@ class WeaveResult:
     cancelled_queries: int = 0                   # loop queries cut by the timeout (machine-dependent)
     capped_queries: int = 0                      # loop queries stopped by query_polls (no proposal there)
     max_strips: int = 0                          # the strip cap weaving had (_Weaver.max_strips)
+    taken_back: list = field(default_factory=list)   # per strip taken back at the end (_take_back)
 
 
 def extra_extrema(region):
@@ -580,6 +589,14 @@ class _Weaver:
         self.check_cancel()
         self.spend("predict", WORK_PREDICT)
         layout = self.ds.native.layout_with([loop])
+        return layout, _assessment_of(layout)
+
+    def predict_without(self, index):
+        """predict() of taking strip `index` back: the other loops under the design's current
+        singularities."""
+        self.check_cancel()
+        self.spend("predict", WORK_PREDICT)
+        layout = self.ds.native.layout_with([], without=[index])
         return layout, _assessment_of(layout)
 
     def layout(self):
@@ -1112,6 +1129,132 @@ def _refine(w, ds, options, a, result, elapsed):
     return a
 
 
+def _take_back(w, ds, options, a, result, elapsed):
+    """Take back added strips the layout is cleaner without (module doc, last phase).
+
+    Every phase judges a strip where it is added, by what it fixes there (a region's colour,
+    a patch's corners) and by the layout of that moment. Strips added later come to run
+    beside it, or to cross it next to another crossing, and then it bounds patches narrower
+    than a few solver edges (degenerate) or patches that are no quad, which no later strip
+    mends: a further loop only cuts such a sliver into smaller ones. Taking one of the two
+    loops back does: the sliver merges with its neighbour across that loop.
+
+    Per round: the added strips whose loops bound a defective patch or end at a flagged
+    vertex (_bounding_strips) are candidates; each one's removal is predicted (layout_with
+    without it: the other loops under the design's singularities, no solve); the
+    prediction that leaves the least defective area (_defects) and is cleaner (_cleaner) is
+    removed for real, and kept only if the re-derived layout is cleaner too; else it is put
+    back (DesignState restores the state it kept, at no cost) and not tried again. The
+    user's strips and a symmetric design's strips are never taken back. The phase has its
+    own work allowance (take_back_share of the budget): removing strip k re-derives the
+    strips after it."""
+    try:
+        layout = w.layout()
+    except ImportError:
+        return a
+    start_work = w.work
+    refused = set()         # anchors whose removal the re-derived design did not confirm
+    while w.work - start_work < options.take_back_share * options.budget and \
+            elapsed() < options.time_limit_s * options.red_reserve:
+        candidates = [k for k in _bounding_strips(layout, w.user_strips, len(ds.design.strips))
+                      if not _grouped(w, ds, k) and _strip_key(ds, k) not in refused]
+        best = None
+        for k in candidates:
+            pred_layout, pred = w.predict_without(k)
+            if not _cleaner(pred_layout, pred, layout, a, options):
+                continue
+            rank = (_defects(pred_layout)[0], _defects(pred_layout)[1], -k)
+            if best is None or rank < best[0]:
+                best = (rank, k)
+        if best is None:
+            break
+        k = best[1]
+        key = _strip_key(ds, k)
+        before = _defects(layout)
+        saved = copy.deepcopy(ds.design.strips)
+        w.spend("derive", 0.5 * WORK_DERIVE * (len(ds.design.strips) - k))
+        try:
+            ds.remove_strip(k)
+            after_layout, after = w.layout(), w.assess()
+            confirmed = _cleaner(after_layout, after, layout, a, options)
+        except (native.InputError, native.Cancelled):
+            # A later strip's anchor direction is refused without strip k's mask (it would
+            # run along an earlier strip now): an internal refusal, never the user's error.
+            confirmed = False
+        if not confirmed:
+            _say(options, f"  strip {k + 1} stays: the re-derived design is not cleaner without it")
+            ds.design.strips = saved
+            ds.update()           # the state before the removal, restored (DesignState)
+            refused.add(key)
+            continue
+        _say(options, f"took back strip {k + 1}: defective area {before[0]:.4g} -> {_defects(after_layout)[0]:.4g}, "
+                      f"flagged vertices {before[1]} -> {_defects(after_layout)[1]}, "
+                      f"{len(layout['patches'])} -> {len(after_layout['patches'])} patches")
+        _forget_strip(w, result, k, key, before, _defects(after_layout))
+        a, layout = after, after_layout
+    return a
+
+
+def _bounding_strips(layout, first, count):
+    """The added strips (indices first .. count - 1) whose loops bound a defective patch or
+    end at a flagged vertex, latest first: the only ones whose removal can merge a sliver
+    away (an edge's "loop" is the loop of the arc it crosses, the strip of that index)."""
+    edges = layout.get("edges", ())
+    out = set()
+    for p in layout.get("patches", ()):
+        if p.get("defects"):
+            out.update(edges[e]["loop"] for e in p["edges"])
+    flagged = _defect_vertices(layout)
+    for e in edges:
+        if flagged.intersection(e["vertices"]):
+            out.add(e["loop"])
+    return sorted((k for k in out if first <= k < count), reverse=True)
+
+
+def _grouped(w, ds, k):
+    """Whether strip k has symmetric images or is one (paper §5.8: taken back together only)."""
+    return w.groups.get(k, 1) > 1 or "image_of" in ds.design.strips[k].extra or \
+        any(ds.design.strips[j].extra.get("image_of") == k for j in range(len(ds.design.strips)))
+
+
+def _strip_key(ds, k):
+    return tuple(tuple(round(x, 9) for x in a.to_list()) for a in ds.design.strips[k].anchors)
+
+
+def _cleaner(after_layout, after, before_layout, before, options):
+    """Whether taking a strip back leaves the layout cleaner: valid, none of _less_clean's
+    steps back (validity, crease conformity, defective area, flagged vertices, crease inside
+    patches), no more patches past the area bound, strictly less defective area or fewer
+    flagged vertices, and corners no worse counting every defective patch as four 90-degree
+    corners (_deviation: a sliver merged into its neighbour may leave it a worse quad, but
+    not worse than the sliver was)."""
+    if not after_layout["valid"] or after["colours"]["red"]:
+        return False
+    if _less_clean(after_layout, after, before_layout, before):
+        return False
+    if len(_oversized(after_layout, options.max_area_ratio)) > len(_oversized(before_layout, options.max_area_ratio)):
+        return False
+    if options.patches and len(after_layout["patches"]) < options.patches:
+        return False      # a patch target is density asked for
+    (area_a, flagged_a), (area_b, flagged_b) = _defects(after_layout), _defects(before_layout)
+    total = sum(p["area"] for p in before_layout.get("patches", ())) or 1.0
+    fewer = area_a < area_b - 1e-6 * total or flagged_a < flagged_b
+    return fewer and _deviation(after_layout) <= _deviation(before_layout)
+
+
+def _forget_strip(w, result, k, key, before, after):
+    """Strip k was taken back: later strips move down one index (the log's, the groups'), its
+    log entry goes, and result.taken_back says what the removal did."""
+    entry = next((e for e in result.log if e["strip"] == k), None)
+    result.log = [e for e in result.log if e["strip"] != k]
+    for e in result.log:
+        if e["strip"] > k:
+            e["strip"] -= 1
+    w.groups = {(i - 1 if i > k else i): c for i, c in w.groups.items() if i != k}
+    result.taken_back.append({"anchor": [list(x) for x in key], "added_for": entry["reason"] if entry else None,
+                              "defective_area": [before[0], after[0]], "flagged_vertices": [before[1], after[1]]})
+
+
 def _entry(ds, index, reason, region, colour, seed, cost, elapsed, **figures):
     """The log entry of strip `index` just added: why (reason, region, colour, seed point),
     its anchor and loop cost, the figures it changed, when."""
@@ -1494,6 +1637,8 @@ def _weave(w, ds, options, start=None):
 
     if options.refine and a["colours"]["red"] == 0 and result.stopped in ("done", "no seed helps"):
         a = _refine(w, ds, options, a, result, elapsed)
+    if options.take_back and a["colours"]["red"] == 0 and len(ds.design.strips) > w.user_strips:
+        a = _take_back(w, ds, options, a, result, elapsed)
     result.assessment = a
     result.time_ms = elapsed() * 1000.0
     result.work, result.cancelled_queries, result.capped_queries = w.work, w.cancelled, w.capped
