@@ -1175,3 +1175,29 @@ def test_the_users_strips_are_never_taken_back():
     result = _take_back_added(ds, 5)
     assert len(ds.design.strips) == 5 and result.taken_back == []
     assert compute_layout(ds)["defects"]["degenerate_patches"] >= 4
+
+
+def test_taking_a_strip_back_may_not_add_a_kind_of_defect():
+    """_cleaner, on two layouts of one part: taking a strip back merges two degenerate patches
+    (less defective area) but leaves one patch that is no quad where there was none. That
+    patch would not be fitted at all, so the removal is refused; without the new non-quad
+    patch it is taken."""
+    from stripweave.weave import _cleaner
+
+    def patch(area, defects=(), quad=True):
+        return {"area": area, "defects": list(defects), "quad": quad, "creased": False, "crease_length": 0.0,
+                "corners": [0, 1, 2, 3], "corner_angles_deg": [90.0] * 4 if quad else []}
+
+    def layout(patches, **defects):
+        counts = dict.fromkeys(("non_quad_patches", "overlapping_edges", "valence2_vertices", "high_valence_vertices",
+                                "creased_patches", "degenerate_patches", "uncovered_triangles"), 0)
+        counts.update(defects)
+        return {"valid": True, "patches": patches, "vertices": [], "regions": [], "crossings": 4, "defects": counts}
+
+    before = layout([patch(10.0)] * 4 + [patch(0.1, ["degenerate"])] * 2, degenerate_patches=2)
+    broken = layout([patch(10.0)] * 4 + [patch(0.15, ["non_quad"], quad=False)], non_quad_patches=1)
+    merged = layout([patch(10.0)] * 4)
+    assess = _assessment_of
+    options = WeaveOptions()
+    assert not _cleaner(broken, assess(broken), before, assess(before), options)
+    assert _cleaner(merged, assess(merged), before, assess(before), options)

@@ -1224,13 +1224,20 @@ def _strip_key(ds, k):
 def _cleaner(after_layout, after, before_layout, before, options):
     """Whether taking a strip back leaves the layout cleaner: valid, none of _less_clean's
     steps back (validity, crease conformity, defective area, flagged vertices, crease inside
-    patches), no more patches past the area bound, strictly less defective area or fewer
-    flagged vertices, and corners no worse counting every defective patch as four 90-degree
-    corners (_deviation: a sliver merged into its neighbour may leave it a worse quad, but
-    not worse than the sliver was)."""
+    patches), no kind of defect more frequent, no more patches past the area bound, strictly
+    less defective area or fewer flagged vertices, and corners no worse counting every
+    defective patch as four 90-degree corners (_deviation: a sliver merged into its
+    neighbour may leave it a worse quad, but not worse than the sliver was).
+
+    Per kind, because the area alone trades: merging slivers away can leave a patch that is
+    no quad, or surface in no patch, where there was none, and such a patch is not fitted at
+    all (a CAD mesh's take-back lowered the defective area by 6 % and its fit coverage from
+    99.6 % to 89.6 %)."""
     if not after_layout["valid"] or after["colours"]["red"]:
         return False
     if _less_clean(after_layout, after, before_layout, before):
+        return False
+    if any(after_layout["defects"][k] > n for k, n in before_layout["defects"].items()):
         return False
     if len(_oversized(after_layout, options.max_area_ratio)) > len(_oversized(before_layout, options.max_area_ratio)):
         return False
