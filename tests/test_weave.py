@@ -1201,3 +1201,17 @@ def test_taking_a_strip_back_may_not_add_a_kind_of_defect():
     options = WeaveOptions()
     assert not _cleaner(broken, assess(broken), before, assess(before), options)
     assert _cleaner(merged, assess(merged), before, assess(before), options)
+
+
+def test_the_crease_pass_under_the_band_takes_nothing_back():
+    """Taking strips back is the last phase of the whole weave, not of the crease phase that
+    runs once more under the band (_crease_phase_under_the_band, a pass of _weave): there its
+    predictions spent the work refinement was still to get (a terrain lost its refining
+    strip). The scripted part has no layout, so a take-back in the pass would fail."""
+    import time
+    from stripweave.weave import WeaveResult, _crease_phase_under_the_band
+    options = WeaveOptions(refine=False)
+    w = _ScriptedWeave(options, creases=1, max_strips=10)
+    start = time.perf_counter()
+    a = _crease_phase_under_the_band(w, w, options, WeaveResult(), lambda: time.perf_counter() - start)
+    assert a["colours"]["red"] == 0 and [s.name for s in w.design.strips] == ["crease 0", "red"]

@@ -1013,7 +1013,10 @@ def _crease_phase_under_the_band(w, ds, options, result, elapsed):
     over all four faces, 18 units of crease excess; under the band the loop along the next
     face takes it to 12). Returns the assessment after it; its strips join the log."""
     _say(options, "crease regions remain: their seeds once more, under the band")
-    again = _weave(w, ds, replace(options, colours=("crease",), refine=False), start=time.perf_counter() - elapsed())
+    # Not the last phase: taking strips back belongs to the end of the whole weave, and its
+    # predictions here would spend what refinement is still to get.
+    again = _weave(w, ds, replace(options, colours=("crease",), refine=False, take_back=False),
+                   start=time.perf_counter() - elapsed())
     result.log.extend(again.log)
     return again.assessment
 
