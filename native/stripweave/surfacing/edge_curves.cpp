@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace stripweave {
 
@@ -80,9 +81,13 @@ EdgeSamples sample_edge(const std::vector<Vec3>& polyline, const std::vector<std
 // Largest angle (degrees) between a free end tangent and the vertex's
 // tangent plane for which the end is held in the plane.
 constexpr double kMaxTangentTilt = 5.0;
+constexpr int kMaxEdgeCurveSpans = 1 << 20;
 
 BSplineCurve3 fit_edge_curve(const EdgeSamples& samples, const Vec3& start, const Vec3& end, int spans,
                              double smoothing, const Vec3& start_normal, const Vec3& end_normal) {
+  // Every caller asks for 1 span or more (the fit's span counts); the bound
+  // keeps the control count N = spans + 3 and its indices from overflowing.
+  if (spans < 1 || spans > kMaxEdgeCurveSpans) throw std::invalid_argument("fit_edge_curve: span count out of range");
   BSplineCurve3 c;
   c.spans = spans;
   const int N = spans + 3;
