@@ -1166,7 +1166,7 @@ def _take_back(w, ds, options, a, result, elapsed):
             pred_layout, pred = w.predict_without(k)
             if not _cleaner(pred_layout, pred, layout, a, options):
                 continue
-            rank = (_defects(pred_layout)[0], _defects(pred_layout)[1], -k)
+            rank = (*_defects(pred_layout), -k)
             if best is None or rank < best[0]:
                 best = (rank, k)
         if best is None:
@@ -1180,10 +1180,14 @@ def _take_back(w, ds, options, a, result, elapsed):
             ds.remove_strip(k)
             after_layout, after = w.layout(), w.assess()
             confirmed = _cleaner(after_layout, after, layout, a, options)
-        except (native.InputError, native.Cancelled):
+        except native.InputError:
             # A later strip's anchor direction is refused without strip k's mask (it would
             # run along an earlier strip now): an internal refusal, never the user's error.
             confirmed = False
+        except native.Cancelled:
+            ds.design.strips = saved    # a cancelled weave ends with the design it had
+            ds.update()
+            raise
         if not confirmed:
             _say(options, f"  strip {k + 1} stays: the re-derived design is not cleaner without it")
             ds.design.strips = saved
