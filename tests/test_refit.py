@@ -334,7 +334,7 @@ def test_no_clean_quad_to_fit_is_named():
         def __init__(self, made):
             self.made = made
 
-        def patch_network(self):
+        def patch_network(self, set_aside_red=False):
             return {"patches": [], "layout_patches": self.made}
 
     class Session:

@@ -846,6 +846,48 @@ def test_components_name_the_red_one():
     assert "genus 1" in report["why_red"]
 
 
+def test_an_assembly_left_red_on_one_solid_still_gets_the_others_patches(tmp_path):
+    """The cube beside the torus again, the torus left red: the layout stays invalid, and
+    says so, but everything there is is written (issue 18). The loops of different
+    components never meet, so the cube's layout is the one it has alone: patches.step holds
+    its six patches, exactly on the cube, and the fit's coverage is the cube's share of the
+    part's area, the torus counted as uncovered (never a flattering figure)."""
+    shape = Part.makeCompound([Part.makeBox(10, 10, 10), Part.makeTorus(10, 3, FreeCAD.Vector(40, 5, 5))])
+    belts = Design()
+    for anchor in ((5, 5, 10, 1, 0, 0), (5, 5, 10, 0, 1, 0), (10, 5, 5, 0, 1, 0)):
+        belts.add_strip([anchor])
+    out = tmp_path / "out"
+    with pytest.raises(native.InputError, match=r"not valid: .*genus 1.*patches\.step holds the 6 patches"):
+        sw.weave(sw.from_shape(shape, target_triangles=8000), design=belts, max_strips=3, step=True, out=str(out))
+    report = json.load(open(out / "report.json"))
+    assert not report["valid"] and not json.load(open(out / "layout.json"))["valid"]
+    fit = report["fit"]
+    torus = next(c for c in report["components"] if c["red_regions"])
+    assert fit["set_aside_components"] == [torus["component"]] and fit["faces"] == 6
+    torus_area = 4 * math.pi ** 2 * 10 * 3
+    assert fit["coverage"] == pytest.approx(600.0 / (600.0 + torus_area), abs=0.01)
+    assert not fit["tolerance_met"] and fit["max_deviation"] > 20.0     # the torus is off every patch
+    assert fit["max_deviation_patches_to_source"] <= 1e-6 * report["bbox_diagonal"]
+    step = Part.read(str(out / "patches.step"))
+    assert len(step.Faces) == 6 and step.Area == pytest.approx(600.0, rel=1e-3)
+    box = step.BoundBox
+    assert box.XMax <= 10.0 + 1e-6 and box.YMax <= 10.0 + 1e-6 and box.ZMax <= 10.0 + 1e-6
+
+
+def test_a_red_part_beside_a_stray_triangle_still_says_why_there_is_no_step(tmp_path):
+    """A torus no strip cuts, beside one stray triangle (a component of its own, a disc with
+    nothing to cross): the triangle holds no red region, but no patch either, so there is
+    nothing to fit, and the message is the invalid layout's, not the fit's."""
+    points, faces = Part.makeTorus(10, 3).tessellate(0.2)
+    v = [tuple(p) for p in points] + [(40, 0, 0), (42, 0, 0), (40, 2, 0)]
+    t = [tuple(f) for f in faces] + [(len(points), len(points) + 1, len(points) + 2)]
+    out = tmp_path / "out"
+    with pytest.raises(native.InputError, match=r"cannot fit patches: the layout is not valid: .*genus 1"):
+        sw.weave(sw.from_mesh(np.array(v, float), np.array(t)), auto=False, step=True, out=str(out))
+    assert not (out / "patches.step").exists()
+    assert "not valid" in json.load(open(out / "report.json"))["fit"]["error"]
+
+
 def test_a_patch_target_asks_for_density_past_good_corners():
     """--patches N: below the target, refinement goes on where the corners are already good
     (a split may cost one flaw's worth of quality) with a budget in proportion to N. On a

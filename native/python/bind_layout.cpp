@@ -59,18 +59,23 @@
 //   The same for loops of a LoopSession with given singularities (as
 //   regions() takes them): a layout of loops that no design's compatibility
 //   constrained, e.g. parallel loops of a denser layout.
-// DesignState.layout_with(extra_loops, details=False, without=[]) -> dict
+// DesignState.layout_with(extra_loops, details=False, without=[],
+//                         set_aside_red=False) -> dict
 //   layout() of the design with these loops added and the loops of the
 //   strips `without` (indices) left out, under the design's current
 //   singularities (no field or parameterization solve): what automatic
 //   weaving predicts a candidate strip, or taking one back, by.
-// DesignState.patch_network() -> the layout as surfacing takes it
-//   (surfacing/patch_network.h): {"vertices", "edges": [{"points",
+//   set_aside_red: where a region stays red, the layout of the components
+//   holding none (layout/set_aside.h), valid if one does.
+// DesignState.patch_network(set_aside_red=False) -> the layout as surfacing
+//   takes it (surfacing/patch_network.h): {"vertices", "edges": [{"points",
 //   "vertices", "sharp", "boundary"}], "patches": [{"edges", "reversed",
-//   "vertices", "triangles", "corners", "source_face"}], "bbox_diagonal"}.
+//   "vertices", "triangles", "corners", "source_face"}], "bbox_diagonal"};
+//   set_aside_red as for layout_with.
 #include "bind_regions.h"
 
 #include "stripweave/layout/patch_network_of.h"
+#include "stripweave/layout/set_aside.h"
 #include "stripweave/strips/design_state.h"
 
 #include <pybind11/numpy.h>
@@ -141,9 +146,10 @@ struct DesignLayout {
 // Arrangement and regions of embedded loops, and (primal) their quad layout.
 DesignLayout layout_of(const Surface& s, std::vector<LoopPath>& paths, const std::vector<Singularity>& singular,
                        bool primal, const std::vector<Vec3>& pins = {},
-                       const std::vector<Symmetry>& symmetries = {}, const std::vector<EdgeRoute>& routes = {}) {
+                       const std::vector<Symmetry>& symmetries = {}, const std::vector<EdgeRoute>& routes = {},
+                       const std::vector<std::uint8_t>& set_aside = {}) {
   DesignLayout out;
-  out.computed = compute(s, paths, singular);
+  out.computed = compute(s, paths, singular, set_aside);
   if (primal) {
     const auto t0 = Clock::now();
     out.layout = build_quad_layout(s, out.computed.arrangement, out.computed.regions, singular, pins, symmetries,
@@ -155,15 +161,26 @@ DesignLayout layout_of(const Surface& s, std::vector<LoopPath>& paths, const std
 
 // The design's loops (their embedded paths, kept with the strips) but those
 // of the strips `without`, and `extra` loops, under the design's singularities.
+// set_aside_red: if a region stays red, the layout of the components that
+// hold none (set_aside.h): the others' loops left out and their regions set
+// aside; the full (invalid) layout when every component holds one.
 DesignLayout design_layout(const DesignState& d, bool primal, const std::vector<Loop>& extra = {},
-                           const std::vector<Index>& without = {}) {
+                           const std::vector<Index>& without = {}, bool set_aside_red = false) {
   std::vector<LoopPath> paths;
   for (size_t i = 0; i < d.strips().size(); ++i)
     if (std::find(without.begin(), without.end(), static_cast<Index>(i)) == without.end())
       paths.push_back(d.strips()[i].path);
   for (const Loop& loop : extra) paths.push_back(loop_path(d.session(), loop));
-  return layout_of(d.surface(), paths, d.field().singularities, primal, d.vertex_pins(), d.layout_symmetries(),
-                   d.edge_routes());
+  DesignLayout dl = layout_of(d.surface(), paths, d.field().singularities, primal, d.vertex_pins(),
+                              d.layout_symmetries(), d.edge_routes());
+  if (!set_aside_red || dl.computed.regions.valid) return dl;
+  const std::vector<std::uint8_t> red = red_components(d.surface(), dl.computed.arrangement, dl.computed.regions);
+  if (std::all_of(red.begin(), red.end(), [](std::uint8_t x) { return x != 0; })) return dl;
+  std::vector<LoopPath> kept;
+  for (LoopPath& p : paths)
+    if (!lies_on(p, red)) kept.push_back(std::move(p));
+  return layout_of(d.surface(), kept, d.field().singularities, primal, d.vertex_pins(), d.layout_symmetries(),
+                   d.edge_routes(), red);
 }
 
 py::dict layout_dict(const Surface& s, const std::vector<Singularity>& singular, const DesignLayout& dl,
@@ -330,15 +347,17 @@ void bind_layout(py::module_& m, py::class_<DesignState, std::shared_ptr<DesignS
       "The regions and primal quad layout of loops (paper §7; model units)");
   state.def(
       "layout_with",
-      [](const DesignState& d, const std::vector<Loop>& extra, bool details, const std::vector<Index>& without) {
+      [](const DesignState& d, const std::vector<Loop>& extra, bool details, const std::vector<Index>& without,
+         bool set_aside_red) {
         DesignLayout dl;
         {
           stripweave_python::NativeCall release;
-          dl = design_layout(d, true, extra, without);
+          dl = design_layout(d, true, extra, without, set_aside_red);
         }
         return layout_dict(d.surface(), d.field().singularities, dl, details);
       },
       py::arg("extra_loops"), py::arg("details") = false, py::arg("without") = std::vector<Index>(),
+      py::arg("set_aside_red") = false,
       "The layout the design would have with these loops added and the strips `without` left out, under its "
       "current singularities (no solve); the same as layout(session, design loops but those + extra_loops, the "
       "design's singularities), without embedding the design's loops again");
@@ -366,12 +385,12 @@ void bind_layout(py::module_& m, py::class_<DesignState, std::shared_ptr<DesignS
       py::arg("details") = false, "The design's regions and primal quad layout (paper §7)");
   state.def(
       "patch_network",
-      [](const DesignState& d) {
+      [](const DesignState& d, bool set_aside_red) {
         PatchNetwork net;
         Index layout_patches = 0;
         {
           stripweave_python::NativeCall release;
-          const DesignLayout dl = design_layout(d, true);
+          const DesignLayout dl = design_layout(d, true, {}, {}, set_aside_red);
           net = patch_network_of(d.surface(), dl.computed.arrangement, dl.layout);
           layout_patches = static_cast<Index>(dl.layout.patches.size());
         }
@@ -381,6 +400,7 @@ void bind_layout(py::module_& m, py::class_<DesignState, std::shared_ptr<DesignS
         out["layout_patches"] = layout_patches;
         return out;
       },
+      py::arg("set_aside_red") = false,
       "The quad layout as the surfacing stage takes it (model units), with layout_patches");
 }
 

@@ -218,14 +218,15 @@ std::vector<LoopPath> embed_loops(const LoopSession& session, const std::vector<
   return paths;
 }
 
-Computed compute(const Surface& s, std::vector<LoopPath>& paths, const std::vector<Singularity>& singular) {
+Computed compute(const Surface& s, std::vector<LoopPath>& paths, const std::vector<Singularity>& singular,
+                 const std::vector<std::uint8_t>& set_aside) {
   Computed c;
   const auto t0 = Clock::now();
   for (LoopPath& lp : paths) lp.segments = path_segments(s, lp.path, lp.closed);
   const auto t1 = Clock::now();
   c.arrangement = build_loop_arrangement(s, paths);
   const auto t2 = Clock::now();
-  c.regions = compute_regions(s, c.arrangement, singular);
+  c.regions = compute_regions(s, c.arrangement, singular, set_aside);
   const auto t3 = Clock::now();
   c.embed_ms += millis(t0, t1);
   c.arrangement_ms = millis(t1, t2);

@@ -26,9 +26,11 @@ struct Computed {
 std::vector<stripweave::LoopPath> embed_loops(const stripweave::LoopSession& session,
                                               const std::vector<stripweave::Loop>& loops);
 
-// Segments, arrangement and regions of embedded loops (call without the GIL).
+// Segments, arrangement and regions of embedded loops (call without the GIL);
+// set_aside: per surface triangle, the components left out (set_aside.h).
 Computed compute(const stripweave::Surface& s, std::vector<stripweave::LoopPath>& paths,
-                 const std::vector<stripweave::Singularity>& singular);
+                 const std::vector<stripweave::Singularity>& singular,
+                 const std::vector<std::uint8_t>& set_aside = {});
 
 // A region's assessment keys that regions() and weave_assessment() share (valence, disc,
 // colour, total_curvature, ideal_valence, euler_characteristic, boundaries, open_sides,

@@ -140,21 +140,35 @@ def _corner_deviation_p95(layout):
     return float(deviations[low] + (rank - low) * (deviations[high] - deviations[low]))
 
 
-def _export_step(ds, tolerance, path, symmetries=(), symmetry_tolerance=None):
+def _export_step(ds, tolerance, path, symmetries=(), symmetry_tolerance=None, set_aside_red=False):
     """Fit NURBS patches to the design's primal layout and write them as STEP (the surfacing
     stage). Returns the "fit" block of report.json (model units: design.md's two-sided
     deviations, coverage, seam figures, per patch, shell facts) and, per surface triangle,
     the fraction of its source area not within tolerance of a fitted patch (deviation.png).
     symmetries: the ones the weave used (design.md dicts, model units): the patches are fitted
-    exactly symmetric (native symmetric_fit.h); symmetry_tolerance: model units."""
+    exactly symmetric (native symmetric_fit.h); symmetry_tolerance: model units;
+    set_aside_red: fit the components that hold no red region (refit_design)."""
     from .surfacing import fit_report, refit_design
     options = {}
     if symmetries:
         options["symmetries"] = [dict(s) for s in symmetries]
         if symmetry_tolerance:
             options["symmetry_tolerance"] = symmetry_tolerance
-    result = refit_design(ds, tolerance=tolerance, step_path=path, **options)
+    result = refit_design(ds, tolerance=tolerance, step_path=path, set_aside_red=set_aside_red, **options)
     return fit_report(result), result.get("triangle_uncovered")
+
+
+def _set_aside_components(layout, components):
+    """The components (report.json's "components" ids) the STEP leaves out when the layout is
+    not valid: those holding a red region, if some component holds none; else [] (a valid
+    layout, a one-component part, or nothing left to fit). A red region has no layout (paper
+    §4.2), but the loops of different components never meet, so the others' layout is the one
+    they would have alone (native layout/set_aside.h): an assembly whose weave leaves one solid
+    red still gets the other solids' patches (issue 18: everything it has is written)."""
+    if layout["valid"] or not components:
+        return []
+    red = [c["component"] for c in components if c["red_regions"]]
+    return red if red and len(red) < len(components) else []
 
 
 def _keep_backup(design_path, target):
@@ -312,13 +326,26 @@ def weave(model, design=None, auto=True, out=None, max_strips=None, patches=0, f
         if step:
             say("fitting patches (STEP)")
             paths["step"] = os.path.join(out, "patches.step")
+            set_aside = _set_aside_components(layout, components)
             try:
-                if not layout["valid"]:
+                if not layout["valid"] and not set_aside:
                     raise native.InputError(f"cannot fit patches: the layout is not valid: {red_text}")
                 tol = tolerance if tolerance is not None else 1e-3 * report["bbox_diagonal"]
-                report["fit"], uncovered = _export_step(ds, tol, paths["step"], symmetries,
-                                                       symmetry_tolerance * report["bbox_diagonal"])
+                try:
+                    report["fit"], uncovered = _export_step(ds, tol, paths["step"], symmetries,
+                                                           symmetry_tolerance * report["bbox_diagonal"],
+                                                           set_aside_red=bool(set_aside))
+                except native.InputError:
+                    if not set_aside:
+                        raise
+                    # The components without a red region have no patch to fit either (a
+                    # stray triangle beside the red part): the layout's own message.
+                    set_aside = []
+                    raise native.InputError(f"cannot fit patches: the layout is not valid: {red_text}") from None
                 lap("step")
+                if set_aside:
+                    report["fit"]["set_aside_components"] = set_aside
+                    details = ds.native.layout_with([], True, [], True) if details is not None else None
                 if preview:
                     say("rendering deviation.png")
                     from .preview import render_deviation
@@ -326,11 +353,22 @@ def weave(model, design=None, auto=True, out=None, max_strips=None, patches=0, f
                     with atomic_path(paths["deviation"]) as tmp:
                         render_deviation(tmp, ds, report["fit"], details=details, uncovered=uncovered)
                     lap("deviation")
+                if set_aside:
+                    # Everything it has is written; the layout is still not valid, and says so.
+                    raise native.InputError(
+                        f"the layout is not valid: {red_text}; patches.step holds the {report['fit']['faces']} "
+                        f"patches of the components without a red region (components "
+                        f"{', '.join(str(c) for c in set_aside)} set aside; coverage "
+                        f"{100 * report['fit']['coverage']:.1f} % of the part)")
             except native.InputError as exc:
                 # The design and its layout are still worth having: report.json says why
-                # there is no STEP, and the error names the folder.
-                report["fit"] = {"error": str(exc)}
-                del paths["step"]
+                # there is no STEP (or why it covers only part of the model: set aside),
+                # and the error names the folder.
+                if set_aside and "coverage" in report.get("fit", {}):
+                    report["fit"]["error"] = str(exc)
+                else:
+                    report["fit"] = {"error": str(exc)}
+                    del paths["step"]
                 step_error = native.InputError(f"{exc} (design, layout and report are in {out})")
                 lap("step")
     timings.update({f"strips_{k}": v for k, v in ds.timings_ms().items()})

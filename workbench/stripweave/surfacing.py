@@ -56,14 +56,16 @@ EXTRA_KEYS = ("max_seam_angle_deg_regular", "max_edge_deviation", "max_deviation
               "time_s")
 
 
-def refit_design(design_session, tolerance=None, step_path=None, **options):
+def refit_design(design_session, tolerance=None, step_path=None, set_aside_red=False, **options):
     """Fit the design's layout: native.refit(surface, patch_network, ...).
 
     tolerance: model units (None: 1e-3 of the bbox diagonal). step_path: write
-    STEP AP214 there (and read it back: "step_faces_read_back").
+    STEP AP214 there (and read it back: "step_faces_read_back"). set_aside_red:
+    where a region stays red, fit the components that hold none (native
+    layout/set_aside.h); coverage and deviations stay those of the whole surface.
     Raises stripweave.InputError when the layout is invalid or has no patches.
     """
-    network = design_session.native.patch_network()
+    network = design_session.native.patch_network(set_aside_red)
     if not network["patches"]:
         made = int(network.get("layout_patches", 0))
         if made:

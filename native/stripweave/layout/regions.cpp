@@ -41,7 +41,8 @@ bool continues(const LoopArrangement& A, Index in, Index out, Index b) {
 
 }  // namespace
 
-Regions compute_regions(const Surface& s, const LoopArrangement& A, const std::vector<Singularity>& singularities) {
+Regions compute_regions(const Surface& s, const LoopArrangement& A, const std::vector<Singularity>& singularities,
+                        const std::vector<std::uint8_t>& set_aside) {
   Regions out;
   const TriangleMesh& m = A.mesh;
   const MeshTopology& rt = A.topology;
@@ -61,6 +62,7 @@ Regions compute_regions(const Surface& s, const LoopArrangement& A, const std::v
   std::vector<Index> boundary_halfedges(nr, 0), interior_vertices(nr, 0);
   for (Index t = 0; t < nt; ++t) {
     Region& r = R[region[t]];
+    if (!set_aside.empty() && set_aside[A.parent_triangle[t]]) r.set_aside = true;
     ++r.triangles;
     r.area += 0.5 * triangle_normal_area2(m, t).norm();
     for (Index e : rt.triangle_edges[t]) boundary_halfedges[region[t]] += A.separates(e);
@@ -171,7 +173,7 @@ Regions compute_regions(const Surface& s, const LoopArrangement& A, const std::v
     r.crease_excess = out.creases.regions[k].excess;
     r.colour = assess_region(r.disc, r.crease_problem != CreaseProblem::None, r.excess_extrema, r.valence,
                              r.total_curvature);
-    out.valid &= r.colour != RegionColour::Red;
+    out.valid &= r.set_aside || r.colour != RegionColour::Red;
     out.euler_sum += r.euler_characteristic;
   }
   for (const LoopArc& arc : A.arcs) {

@@ -66,9 +66,13 @@
 //     creases    crease_structure (crease_structure.h): whether the region
 //                can carry its creases on primal edges, and its crease node.
 //     colour     assess_region (assessment.h).
+//     set_aside  the region lies on a surface triangle the optional
+//                `set_aside` mask (per surface triangle) marks: a component
+//                left out of the layout (set_aside.h), whose loops the
+//                caller left out too.
 //   Output: per refined triangle its region; per region the above; per arc
 //           of the arrangement its left and right region; valid iff no
-//           region is red; euler_sum = graph V - E + sum of the regions' chi,
+//           region but a set-aside one is red; euler_sum = graph V - E + sum of the regions' chi,
 //           which equals chi(surface) (a check of the whole construction).
 #pragma once
 
@@ -94,6 +98,7 @@ struct Region {
   CreaseProblem crease_problem = CreaseProblem::None;  // crease_structure.h
   int crease_excess = 0;                               // ... and how far from carrying its creases
   RegionColour colour = RegionColour::None;
+  bool set_aside = false;  // on a component left out of the layout (above)
 };
 
 struct Regions {
@@ -106,6 +111,7 @@ struct Regions {
 };
 
 Regions compute_regions(const Surface& surface, const LoopArrangement& arrangement,
-                        const std::vector<Singularity>& singularities);
+                        const std::vector<Singularity>& singularities,
+                        const std::vector<std::uint8_t>& set_aside = {});
 
 }  // namespace stripweave
