@@ -668,6 +668,27 @@ def test_refinement_never_runs_a_loop_along_a_crease():
     anchors = _splits(layout, 0)
     assert [a[:3] for a in anchors][0] == [0.0, 0.5, 0.0]     # the side on the crease is no anchor
     assert len(anchors) == 2
+    # A patch the layout could not cut (layout.json: -1 for each side) has no sides: no anchor,
+    # rather than the layout's last edge (-1 as a Python index) anchoring an unrelated loop.
+    layout["patches"].append({"edges": [-1, -1, -1, -1]})
+    assert _splits(layout, 1) == []
+
+
+def test_an_uncut_patch_seeds_refinement_in_the_crowded_regions():
+    """A primal vertex's edges leave it by distinct mesh neighbours, about six on a solver
+    mesh, so at valence 7 and more they overlap and the patches around go uncut (-1 sides):
+    refinement then seeds the loops that split the regions of those vertices, the most
+    crowded first, where _splits has no side to offer."""
+    from stripweave.weave import _crowded_seeds, _uncut
+    layout = {"vertices": [{"region": 0, "valence": 4, "defects": []},
+                           {"region": 1, "valence": 8, "defects": ["high_valence"]},
+                           {"region": 2, "valence": 11, "defects": ["high_valence"]},
+                           {"region": 3, "valence": 2, "defects": ["valence2"]}],
+              "patches": [{"edges": [-1, -1, -1, -1]}, {"edges": [0, 1, 2, 3]}]}
+    a = {"regions": [{"seeds": [[0, 0, 0]]}, {"seeds": [[1, 0, 0], [1, 1, 0]]},
+                     {"seeds": [[2, 0, 0]]}, {"seeds": [[3, 0, 0]]}]}
+    assert _uncut(layout["patches"][0]) and not _uncut(layout["patches"][1])
+    assert _crowded_seeds(layout, a) == [[2, 0, 0], [1, 0, 0], [1, 1, 0]]
 
     def ring_wire(r, z):
         return Part.Wire([Part.makeCircle(r, FreeCAD.Vector(0, 0, z))])

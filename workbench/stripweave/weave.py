@@ -892,7 +892,10 @@ def _splits(layout, patch):
     where the mask allows them. It stays as the last candidate."""
     sides = layout["patches"][patch]["edges"]
     edges = layout["edges"]
-    if len(sides) != 4:
+    if len(sides) != 4 or any(s < 0 for s in sides):
+        # A patch the layout could not cut (its edges overlap others': layout.json gives -1
+        # for each side) has no sides to measure; -1 would index the layout's last edge and
+        # seed the loop of an unrelated place.
         return []
     k = max(range(4), key=lambda j: (edges[sides[j]]["length"], -sides[j]))
     short = sorted(((k + 1) % 4, (k + 3) % 4), key=lambda j: (-edges[sides[j]]["length"], sides[j]))
@@ -914,6 +917,27 @@ def _splits(layout, patch):
     p, q = _at_length(edges[sides[k]]["points"], 0.5), _at_length(edges[sides[(k + 2) % 4]]["points"], 0.5)
     d = [b - a for a, b in zip(p, q)]
     out.append(list(p) + d if any(d) else list(p))
+    return out
+
+
+def _uncut(p):
+    """Whether the layout could not cut the patch: no side along a primal edge (layout.json
+    gives -1 for each), because edges around it overlap."""
+    return any(e < 0 for e in p.get("edges", ()))
+
+
+def _crowded_seeds(layout, a):
+    """The seed points of the regions whose vertices carry more edges than a mesh vertex has
+    room for, highest valence first: a primal vertex's edges leave it by distinct neighbours
+    (they may not share a vertex), and a vertex of the solver mesh has about six, so at
+    valence 7 and more (flagged high_valence) edges overlap and the patches around go uncut.
+    A loop across such a region splits it and lowers its valence; _splits has nothing to
+    offer there, as an uncut patch has no sides."""
+    vertices = [v for v in layout.get("vertices", ()) if "high_valence" in v.get("defects", ())]
+    out = []
+    for v in sorted(vertices, key=lambda v: (-v["valence"], v["region"])):
+        if 0 <= v["region"] < len(a["regions"]):
+            out += [list(p) for p in a["regions"][v["region"]].get("seeds", ())]
     return out
 
 
@@ -1071,10 +1095,15 @@ def _refine(w, ds, options, a, result, elapsed):
             order = oversized + sorted((i for i in range(patches) if i not in oversized),
                                        key=lambda i: (-_split_need(layout["patches"][i], flawed), i))
         seeds = []
+        crowded = False       # the seeds of the crowded regions are in (_crowded_seeds)
         for i in order:
             if len(seeds) >= options.refine_candidates:
                 break
-            for p in _splits(layout, i):
+            splits = _splits(layout, i)
+            if not splits and not crowded and _uncut(layout["patches"][i]):
+                crowded = True
+                splits = _crowded_seeds(layout, a)
+            for p in splits:
                 if _key(p[:3]) not in tried and len(seeds) < options.refine_candidates:
                     seeds.append((p, i))
         if not seeds:
