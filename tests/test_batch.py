@@ -144,6 +144,24 @@ def test_an_older_report_shows_na_not_a_flattering_number():
     assert row["corner dev. mean / p95 deg"] == "1.0 / n/a"
 
 
+def test_a_partial_fit_shows_its_whole_part_figures_marked_partial():
+    """A run that failed with a region red on one component still fitted the others: the row
+    shows that fit's figures (coverage of the whole part, the set-aside component uncovered),
+    marked partial; a failed fit without them stays n/a."""
+    from stripweave.batch_report import COLUMNS, cells
+    fit = {"max_deviation_source_to_patches": 43.0, "max_deviation_patches_to_source": 1e-9,
+           "tolerance": 0.06, "tolerance_met": False, "coverage": 0.336, "set_aside_components": [0],
+           "error": "the layout is not valid: ..."}
+    entry = {"model": "pair.step", "status": "error", "error": "the layout is not valid: ...", "time_s": 1.0,
+             "peak_memory_mb": 100.0, "report": {"valid": False, "fit": fit}}
+    row = dict(zip(COLUMNS, cells(entry)))
+    assert row["fit max / tolerance"] == "43 / 0.06 not met (partial: components 0 set aside)"
+    assert row["coverage"] == "33.6%"
+    del fit["set_aside_components"]
+    row = dict(zip(COLUMNS, cells(entry)))
+    assert row["fit max / tolerance"] == "n/a" and row["coverage"] == "n/a"
+
+
 def test_index_html_links_every_picture(batch):
     with open(os.path.join(batch["out"], "index.html"), encoding="utf-8") as f:
         page = f.read()

@@ -71,15 +71,19 @@ def _corner_deviation(report):
 
 
 def _fit(report):
-    """(two-sided max / tolerance [met|not met], coverage): n/a without a two-sided fit."""
+    """(two-sided max / tolerance [met|not met], coverage): n/a without a two-sided fit. A fit
+    of the components a red region leaves alone (fit.set_aside_components: the run failed,
+    the STEP holds part of the model) shows its whole-part figures, marked partial."""
     fit = report.get("fit")
-    if not isinstance(fit, dict) or "error" in fit:
+    if not isinstance(fit, dict) or ("error" in fit and not fit.get("set_aside_components")):
         return NA, NA
     sides = (fit.get("max_deviation_source_to_patches"), fit.get("max_deviation_patches_to_source"))
     deviation = NA if None in sides else format(max(sides), ".3g")
     text = f"{deviation} / {_number(fit.get('tolerance'), '.3g')}"
     if "tolerance_met" in fit:
         text += " met" if fit["tolerance_met"] else " not met"
+    if fit.get("set_aside_components"):
+        text += f" (partial: components {', '.join(str(c) for c in fit['set_aside_components'])} set aside)"
     coverage = fit.get("coverage")
     return text, NA if coverage is None else f"{100.0 * coverage:.1f}%"
 
