@@ -75,7 +75,6 @@
 #include "bind_regions.h"
 
 #include "stripweave/layout/patch_network_of.h"
-#include "stripweave/layout/set_aside.h"
 #include "stripweave/strips/design_state.h"
 
 #include <pybind11/numpy.h>
@@ -137,33 +136,11 @@ py::list defect_locations(const LayoutDefects& D) {
   return out;
 }
 
-struct DesignLayout {
-  Computed computed;
-  QuadLayout layout;
-  double layout_ms = 0;
-};
-
-// Arrangement and regions of embedded loops, and (primal) their quad layout.
-DesignLayout layout_of(const Surface& s, std::vector<LoopPath>& paths, const std::vector<Singularity>& singular,
-                       bool primal, const std::vector<Vec3>& pins = {},
-                       const std::vector<Symmetry>& symmetries = {}, const std::vector<EdgeRoute>& routes = {},
-                       const std::vector<std::uint8_t>& set_aside = {}) {
-  DesignLayout out;
-  out.computed = compute(s, paths, singular, set_aside);
-  if (primal) {
-    const auto t0 = Clock::now();
-    out.layout = build_quad_layout(s, out.computed.arrangement, out.computed.regions, singular, pins, symmetries,
-                                   routes);
-    out.layout_ms = millis(t0, Clock::now());
-  }
-  return out;
-}
+using DesignLayout = LoopLayout;
 
 // The design's loops (their embedded paths, kept with the strips) but those
-// of the strips `without`, and `extra` loops, under the design's singularities.
-// set_aside_red: if a region stays red, the layout of the components that
-// hold none (set_aside.h): the others' loops left out and their regions set
-// aside; the full (invalid) layout when every component holds one.
+// of the strips `without`, and `extra` loops, laid out under the design's
+// singularities, pins, symmetries and edge routes (layout/loop_layout.h).
 DesignLayout design_layout(const DesignState& d, bool primal, const std::vector<Loop>& extra = {},
                            const std::vector<Index>& without = {}, bool set_aside_red = false) {
   std::vector<LoopPath> paths;
@@ -171,16 +148,8 @@ DesignLayout design_layout(const DesignState& d, bool primal, const std::vector<
     if (std::find(without.begin(), without.end(), static_cast<Index>(i)) == without.end())
       paths.push_back(d.strips()[i].path);
   for (const Loop& loop : extra) paths.push_back(loop_path(d.session(), loop));
-  DesignLayout dl = layout_of(d.surface(), paths, d.field().singularities, primal, d.vertex_pins(),
-                              d.layout_symmetries(), d.edge_routes());
-  if (!set_aside_red || dl.computed.regions.valid) return dl;
-  const std::vector<std::uint8_t> red = red_components(d.surface(), dl.computed.arrangement, dl.computed.regions);
-  if (std::all_of(red.begin(), red.end(), [](std::uint8_t x) { return x != 0; })) return dl;
-  std::vector<LoopPath> kept;
-  for (LoopPath& p : paths)
-    if (!lies_on(p, red)) kept.push_back(std::move(p));
-  return layout_of(d.surface(), kept, d.field().singularities, primal, d.vertex_pins(), d.layout_symmetries(),
-                   d.edge_routes(), red);
+  return layout_loops(d.surface(), paths, d.field().singularities, primal, d.vertex_pins(), d.layout_symmetries(),
+                      d.edge_routes(), set_aside_red);
 }
 
 py::dict layout_dict(const Surface& s, const std::vector<Singularity>& singular, const DesignLayout& dl,
@@ -338,7 +307,7 @@ void bind_layout(py::module_& m, py::class_<DesignState, std::shared_ptr<DesignS
         {
           stripweave_python::NativeCall release;
           std::vector<LoopPath> paths = embed_loops(session, loops);
-          dl = layout_of(s, paths, singular, true);
+          dl = layout_loops(s, paths, singular, true);
         }
         return layout_dict(s, singular, dl, details);
       },

@@ -42,7 +42,6 @@
 #include "stripweave/core/error.h"
 #include "stripweave/layout/regions.h"
 #include "stripweave/layout/weave_seeds.h"
-#include "stripweave/strips/path_segments.h"
 
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
@@ -218,22 +217,6 @@ std::vector<LoopPath> embed_loops(const LoopSession& session, const std::vector<
   return paths;
 }
 
-Computed compute(const Surface& s, std::vector<LoopPath>& paths, const std::vector<Singularity>& singular,
-                 const std::vector<std::uint8_t>& set_aside) {
-  Computed c;
-  const auto t0 = Clock::now();
-  for (LoopPath& lp : paths) lp.segments = path_segments(s, lp.path, lp.closed);
-  const auto t1 = Clock::now();
-  c.arrangement = build_loop_arrangement(s, paths);
-  const auto t2 = Clock::now();
-  c.regions = compute_regions(s, c.arrangement, singular, set_aside);
-  const auto t3 = Clock::now();
-  c.embed_ms += millis(t0, t1);
-  c.arrangement_ms = millis(t1, t2);
-  c.regions_ms = millis(t2, t3);
-  return c;
-}
-
 void bind_regions(py::module_& m) {
   m.def("regions", [](const LoopSession& session, const std::vector<Loop>& loops,
                       const std::vector<Index>& singular_vertices, const std::vector<int>& quarter_indices,
@@ -246,7 +229,7 @@ void bind_regions(py::module_& m) {
           const auto t0 = Clock::now();
           std::vector<LoopPath> paths = embed_loops(session, loops);
           const double embed_ms = millis(t0, Clock::now());
-          c = compute(s, paths, singular);
+          c = arrange_loops(s, paths, singular);
           c.embed_ms += embed_ms;
         }
         return regions_dict(s, singular, c, details);
@@ -286,7 +269,7 @@ void bind_regions(py::module_& m) {
         Computed c;
         {
           stripweave_python::NativeCall release;
-          c = compute(s, loops, singular);
+          c = arrange_loops(s, loops, singular);
         }
         py::dict out = regions_dict(s, singular, c, details);
         if (details) out["bridge_anchors"] = bridge_anchor_list(s, c);

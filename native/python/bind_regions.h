@@ -4,6 +4,7 @@
 
 #include "bind.h"
 
+#include "stripweave/layout/loop_layout.h"
 #include "stripweave/layout/regions.h"
 #include "stripweave/strips/design_state.h"
 
@@ -16,21 +17,12 @@ inline double millis(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
 }
 
-struct Computed {
-  stripweave::LoopArrangement arrangement;
-  stripweave::Regions regions;
-  double embed_ms = 0, arrangement_ms = 0, regions_ms = 0;
-};
+// The arrangement and regions of embedded loops (layout/loop_layout.h).
+using Computed = stripweave::ArrangedLoops;
 
 // The session's loops embedded on its surface (call without the GIL).
 std::vector<stripweave::LoopPath> embed_loops(const stripweave::LoopSession& session,
                                               const std::vector<stripweave::Loop>& loops);
-
-// Segments, arrangement and regions of embedded loops (call without the GIL);
-// set_aside: per surface triangle, the components left out (set_aside.h).
-Computed compute(const stripweave::Surface& s, std::vector<stripweave::LoopPath>& paths,
-                 const std::vector<stripweave::Singularity>& singular,
-                 const std::vector<std::uint8_t>& set_aside = {});
 
 // A region's assessment keys that regions() and weave_assessment() share (valence, disc,
 // colour, total_curvature, ideal_valence, euler_characteristic, boundaries, open_sides,
