@@ -1232,6 +1232,37 @@ def test_a_strip_that_leaves_slivers_is_taken_back():
     assert taken["defective_area"][0] > 0 and taken["defective_area"][1] == 0
 
 
+def test_a_cancel_during_a_take_back_removal_restores_the_design(capsys):
+    """A Cancel pressed while a removal is being re-derived (the GUI's cancel event) ends the
+    weave with the design it had: every strip back, the same layout, and Cancelled raised at
+    once, not taken for a removal the design refused ("strip k stays")."""
+    import threading
+    import time
+    from stripweave.weave import WeaveResult, _take_back, _Weaver
+    ds = _sphere_with_three_close_belts()
+    anchors = [s.anchors[0].to_list() for s in ds.design.strips]
+    before = compute_layout(ds)
+    cancel = threading.Event()
+    options = WeaveOptions(cancel=cancel, verbose=True)
+    w = _Weaver(ds, options)
+    w.user_strips = 0
+    remove = ds.remove_strip
+
+    def remove_then_cancel(k):
+        remove(k)
+        cancel.set()          # the next step that costs work (the re-derived layout) sees it
+
+    ds.remove_strip = remove_then_cancel
+    start = time.perf_counter()
+    with pytest.raises(native.Cancelled):
+        _take_back(w, ds, options, native.weave_assessment(ds.native, [], 1), WeaveResult(),
+                   lambda: time.perf_counter() - start)
+    assert "stays" not in capsys.readouterr().err
+    assert [s.anchors[0].to_list() for s in ds.design.strips] == anchors
+    after = compute_layout(ds)
+    assert len(after["patches"]) == len(before["patches"]) and after["defects"] == before["defects"]
+
+
 def test_the_users_strips_are_never_taken_back():
     """The same sliver layout, every strip the user's: the phase leaves the design as it is."""
     ds = _sphere_with_three_close_belts()
