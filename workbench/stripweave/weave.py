@@ -892,9 +892,8 @@ def _splits(layout, patch):
     where the mask allows them. It stays as the last candidate."""
     sides = layout["patches"][patch]["edges"]
     edges = layout["edges"]
-    if len(sides) != 4 or any(s < 0 for s in sides):
-        # A patch the layout could not cut (its edges overlap others': layout.json gives -1
-        # for each side) has no sides to measure; -1 would index the layout's last edge and
+    if len(sides) != 4 or _uncut(layout["patches"][patch]):
+        # An uncut patch has no sides to measure; -1 would index the layout's last edge and
         # seed the loop of an unrelated place.
         return []
     k = max(range(4), key=lambda j: (edges[sides[j]]["length"], -sides[j]))
