@@ -21,7 +21,7 @@ from stripweave.design import Design
 from stripweave.layout import compute_layout
 from stripweave.loops import LoopSession
 from stripweave.strips import DesignSession
-from test_regions import grid_cube
+from test_regions import check_topology, clipped_line, grid_cube, grid_sheet, trace
 
 native = sw._native
 
@@ -231,6 +231,40 @@ def test_layout_of_loops_through_mesh_vertices():
     assert (len(L["patches"]), len(L["edges"]), len(L["vertices"])) == (6, 12, 8)
     for p in L["patches"]:
         assert p["area"] == pytest.approx(100, rel=1e-9)
+
+
+def octagon_lines(centre, half_width, diagonal_distance):
+    """Eight chords of the square [0,10]^2: two each way along x and y at `half_width` from
+    `centre`, and two along each diagonal at `diagonal_distance`. With half_width <
+    diagonal_distance < half_width * sqrt(2) the diagonals cut the corners of the middle
+    square, so the middle region is an octagon: a primal vertex of valence 8."""
+    c = np.asarray(centre, float)
+    lines = [clipped_line(c + (0, s * half_width), 0.0) for s in (-1, 1)]
+    lines += [clipped_line(c + (s * half_width, 0), math.pi / 2) for s in (-1, 1)]
+    for angle in (math.pi / 4, 3 * math.pi / 4):
+        normal = np.array([-math.sin(angle), math.cos(angle)])
+        lines += [clipped_line(c + s * diagonal_distance * normal, angle) for s in (-1, 1)]
+    return lines
+
+
+def test_a_vertex_of_valence_eight_has_its_edges_apart_on_a_valence_six_mesh():
+    """A region of valence 8 on a structured sheet whose vertices have 6 neighbours: the 8
+    primal edges cannot leave its vertex through 6 neighbours without sharing, so the layout
+    had overlapping edges and patches without four sides. Refining the mesh around crowded
+    vertices (star_refinement.h) gives every patch its four sides; the refined arrangement
+    stays a manifold refinement of the sheet, the patches tile it, and the vertex stays at
+    the octagon's centre."""
+    sheet = sw.from_mesh(*grid_sheet(40), target_triangles=0)
+    centre = (5.0137, 5.0137)  # off the grid's lines, so no loop runs along a mesh edge
+    paths = [trace(sheet, line) for line in octagon_lines(centre, 1.6, 1.95)]
+    L = native.layout_of_paths(sheet, paths)
+    check_topology(L)
+    check_layout(L)
+    assert len(L["patches"]) == L["crossings"] == 24
+    (octagon,) = [v for v in L["vertices"] if v["valence"] == 8]
+    assert np.linalg.norm(np.asarray(octagon["position"])[:2] - centre) < 0.5
+    assert sum(p["area"] for p in L["patches"]) == pytest.approx(100, rel=1e-9)
+    assert not any(L["defects"][k] for k in ("non_quad_patches", "overlapping_edges", "uncovered_triangles"))
 
 
 def test_layout_with_crossings_near_a_vertex(square_session):

@@ -314,6 +314,22 @@ void bind_layout(py::module_& m, py::class_<DesignState, std::shared_ptr<DesignS
       py::arg("session"), py::arg("loops"), py::arg("singular_vertices") = std::vector<Index>(),
       py::arg("quarter_indices") = std::vector<int>(), py::arg("details") = false,
       "The regions and primal quad layout of loops (paper §7; model units)");
+  m.def(
+      "layout_of_paths",
+      [](const Surface& s, const std::vector<py::dict>& paths, const std::vector<Index>& singular_vertices,
+         const std::vector<int>& quarter_indices, bool details) {
+        const std::vector<Singularity> singular = singularities_from(s, singular_vertices, quarter_indices);
+        std::vector<LoopPath> loops = paths_from_dicts(s, paths);
+        DesignLayout dl;
+        {
+          stripweave_python::NativeCall release;
+          dl = layout_loops(s, loops, singular, true);
+        }
+        return layout_dict(s, singular, dl, details);
+      },
+      py::arg("surface"), py::arg("paths"), py::arg("singular_vertices") = std::vector<Index>(),
+      py::arg("quarter_indices") = std::vector<int>(), py::arg("details") = false,
+      "layout() for loops given as embedded paths (as regions_of_paths; for tests and tools)");
   state.def(
       "layout_with",
       [](const DesignState& d, const std::vector<Loop>& extra, bool details, const std::vector<Index>& without,

@@ -97,6 +97,34 @@ void put_region_keys(py::dict& d, const Region& r, double scale2) {
   d["crease_excess"] = r.crease_excess;
 }
 
+std::vector<LoopPath> paths_from_dicts(const Surface& s, const std::vector<py::dict>& paths) {
+  std::vector<LoopPath> loops;
+  for (const py::dict& d : paths) {
+    LoopPath lp;
+    lp.path.vertex = d["vertex"].cast<std::vector<Index>>();
+    lp.path.edge = d["edge"].cast<std::vector<Index>>();
+    lp.path.t = d["t"].cast<std::vector<double>>();
+    lp.closed = d["closed"].cast<bool>();
+    const size_t n = lp.path.vertex.size();
+    if (lp.path.edge.size() != n || lp.path.t.size() != n)
+      throw InputError("a path needs as many edges and t as vertices");
+    for (size_t i = 0; i < n; ++i) {
+      const Index v = lp.path.vertex[i], e = lp.path.edge[i];
+      if (v != kInvalid) {
+        if (v < 0 || v >= s.mesh.num_vertices()) throw InputError("a path names a vertex the surface lacks");
+        lp.path.points.push_back(s.mesh.positions[v]);
+      } else {
+        if (e < 0 || e >= s.topology.num_edges()) throw InputError("a path names an edge the surface lacks");
+        const double t = lp.path.t[i];
+        const EdgeKey& k = s.topology.edges[e];
+        lp.path.points.push_back((1 - t) * s.mesh.positions[k[0]] + t * s.mesh.positions[k[1]]);
+      }
+    }
+    loops.push_back(std::move(lp));
+  }
+  return loops;
+}
+
 py::dict regions_dict(const Surface& s, const std::vector<Singularity>& singular, const Computed& c, bool details) {
   const LoopArrangement& A = c.arrangement;
   const Regions& G = c.regions;
@@ -242,30 +270,7 @@ void bind_regions(py::module_& m) {
                                const std::vector<Index>& singular_vertices, const std::vector<int>& quarter_indices,
                                bool details) {
         const std::vector<Singularity> singular = singularities_from(s, singular_vertices, quarter_indices);
-        std::vector<LoopPath> loops;
-        for (const py::dict& d : paths) {
-          LoopPath lp;
-          lp.path.vertex = d["vertex"].cast<std::vector<Index>>();
-          lp.path.edge = d["edge"].cast<std::vector<Index>>();
-          lp.path.t = d["t"].cast<std::vector<double>>();
-          lp.closed = d["closed"].cast<bool>();
-          const size_t n = lp.path.vertex.size();
-          if (lp.path.edge.size() != n || lp.path.t.size() != n)
-            throw InputError("a path needs as many edges and t as vertices");
-          for (size_t i = 0; i < n; ++i) {
-            const Index v = lp.path.vertex[i], e = lp.path.edge[i];
-            if (v != kInvalid) {
-              if (v < 0 || v >= s.mesh.num_vertices()) throw InputError("a path names a vertex the surface lacks");
-              lp.path.points.push_back(s.mesh.positions[v]);
-            } else {
-              if (e < 0 || e >= s.topology.num_edges()) throw InputError("a path names an edge the surface lacks");
-              const double t = lp.path.t[i];
-              const EdgeKey& k = s.topology.edges[e];
-              lp.path.points.push_back((1 - t) * s.mesh.positions[k[0]] + t * s.mesh.positions[k[1]]);
-            }
-          }
-          loops.push_back(std::move(lp));
-        }
+        std::vector<LoopPath> loops = paths_from_dicts(s, paths);
         Computed c;
         {
           stripweave_python::NativeCall release;

@@ -24,6 +24,11 @@ using Computed = stripweave::ArrangedLoops;
 std::vector<stripweave::LoopPath> embed_loops(const stripweave::LoopSession& session,
                                               const std::vector<stripweave::Loop>& loops);
 
+// Loops given as embedded paths: dicts with per point 'vertex' (or -1), 'edge' (or -1)
+// and 't' along surface.edges[edge], and 'closed' (InputError on a bad one).
+std::vector<stripweave::LoopPath> paths_from_dicts(const stripweave::Surface& s,
+                                                   const std::vector<pybind11::dict>& paths);
+
 // A region's assessment keys that regions() and weave_assessment() share (valence, disc,
 // colour, total_curvature, ideal_valence, euler_characteristic, boundaries, open_sides,
 // on_open_boundary, genus, area in model units squared: `scale2`, excess_extrema,

@@ -22,7 +22,7 @@
 //   full (invalid) layout.
 #pragma once
 
-#include "stripweave/layout/edge_route.h"
+#include "stripweave/strips/edge_route.h"
 #include "stripweave/layout/quad_layout.h"
 #include "stripweave/layout/regions.h"
 #include "stripweave/symmetry/symmetry.h"

@@ -25,9 +25,6 @@
 
 namespace stripweave {
 
-namespace {
-
-// The wedge of refined vertex v in region r (kInvalid if v is not in it).
 Index wedge_at(const PrimalContext& ctx, Index v, Index r) {
   const LoopArrangement& A = ctx.arrangement;
   for (const Index* t = A.topology.vertex_triangles.begin(v); t != A.topology.vertex_triangles.end(v); ++t) {
@@ -36,8 +33,6 @@ Index wedge_at(const PrimalContext& ctx, Index v, Index r) {
   }
   return kInvalid;
 }
-
-}  // namespace
 
 std::vector<double> loop_clearance(const PrimalContext& ctx) {
   std::vector<Index> on_loops;

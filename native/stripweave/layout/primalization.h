@@ -64,6 +64,9 @@ struct PrimalContext {
 // Per wedge, its distance from the loops within its region (normalized
 // units): how centred a vertex there sits (primal_vertices.cpp).
 std::vector<double> loop_clearance(const PrimalContext& ctx);
+// The wedge of refined vertex v in region r (kInvalid if v is not in r).
+Index wedge_at(const PrimalContext& ctx, Index v, Index r);
+
 // Per refined vertex, 1 if it lies on a crease the layout follows.
 std::vector<std::uint8_t> crease_vertices(const PrimalContext& ctx);
 
@@ -107,6 +110,13 @@ std::vector<ResolvedEdgeRoute> resolve_edge_routes(const PrimalContext& ctx, con
 std::vector<PrimalEdge> route_primal_edges(const PrimalContext& ctx, const std::vector<Index>& vertex_wedge,
                                            const std::vector<ResolvedEdgeRoute>& routes,
                                            std::vector<std::string>& problems);
+
+// crowded_vertices     refined vertices (off the loops) where the routed
+//                      edges crowd: primal vertices that an edge leaves through
+//                      a neighbour another edge also passes, and vertices two
+//                      edges pass (star_refinement.h; primal_vertex_stars.cpp)
+std::vector<Index> crowded_vertices(const PrimalContext& ctx, const std::vector<PrimalVertex>& vertices,
+                                           const std::vector<PrimalEdge>& edges);
 
 void straighten_primal_edges(const PrimalContext& ctx, QuadLayout& layout);
 

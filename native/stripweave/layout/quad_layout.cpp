@@ -2,7 +2,10 @@
 // quad_layout.h and primalization.h).
 #include "stripweave/layout/primalization.h"
 
+#include "stripweave/layout/star_refinement.h"
 #include "stripweave/surface/creases.h"
+
+#include <memory>
 
 #include <limits>
 #include <queue>
@@ -131,7 +134,7 @@ std::pair<Index, Index> PrimalContext::arc_side_wedges(Index k, size_t i) const 
   return {wedge(left), wedge(right)};
 }
 
-QuadLayout build_quad_layout(const Surface& s, const LoopArrangement& A, const Regions& G,
+QuadLayout build_quad_layout(const Surface& s, LoopArrangement& A, Regions& G,
                              const std::vector<Singularity>& singularities, const std::vector<Vec3>& pins,
                              const std::vector<Symmetry>& symmetries, const std::vector<EdgeRoute>& routes) {
   QuadLayout layout;
@@ -144,21 +147,35 @@ QuadLayout build_quad_layout(const Surface& s, const LoopArrangement& A, const R
     layout.defects = find_layout_defects(s, A, layout);
     return layout;
   }
-  const PrimalContext ctx(s, A, G);
+  auto ctx = std::make_unique<PrimalContext>(s, A, G);
   std::vector<Index> vertex_wedge;
-  layout.vertices = place_primal_vertices(ctx, singularities, vertex_wedge);
-  pin_primal_vertices(ctx, pins, layout.vertices, vertex_wedge);
-  symmetrize_primal_vertices(ctx, symmetries, layout.vertices, vertex_wedge);
-  const std::vector<ResolvedEdgeRoute> resolved = resolve_edge_routes(ctx, vertex_wedge, routes, layout.problems);
-  layout.edges = route_primal_edges(ctx, vertex_wedge, resolved, layout.problems);
+  layout.vertices = place_primal_vertices(*ctx, singularities, vertex_wedge);
+  pin_primal_vertices(*ctx, pins, layout.vertices, vertex_wedge);
+  symmetrize_primal_vertices(*ctx, symmetries, layout.vertices, vertex_wedge);
+  for (int round = 0;; ++round) {
+    std::vector<std::string> problems;
+    const std::vector<ResolvedEdgeRoute> resolved = resolve_edge_routes(*ctx, vertex_wedge, routes, problems);
+    layout.edges = route_primal_edges(*ctx, vertex_wedge, resolved, problems);
+    const std::vector<Index> crowded =
+        round < kStarRounds ? crowded_vertices(*ctx, layout.vertices, layout.edges) : std::vector<Index>{};
+    if (crowded.empty() || refine_stars(s, A, G, crowded) == 0) {
+      layout.problems = std::move(problems);
+      break;
+    }
+    // The context held the arrangement as it was; the vertices keep their
+    // refined vertices, now with more neighbours.
+    ctx = std::make_unique<PrimalContext>(s, A, G);
+    for (size_t r = 0; r < vertex_wedge.size(); ++r)
+      if (vertex_wedge[r] != kInvalid) vertex_wedge[r] = wedge_at(*ctx, layout.vertices[r].refined_vertex, r);
+  }
   for (const PrimalEdge& e : layout.edges) {
     ++layout.vertices[e.v0].valence;
     ++layout.vertices[e.v1].valence;
   }
-  straighten_primal_edges(ctx, layout);
-  cut_primal_patches(ctx, layout);
-  measure_crease_conformity(ctx, layout);
-  layout.defects = find_layout_defects(s, A, layout, ctx.surface_crease);
+  straighten_primal_edges(*ctx, layout);
+  cut_primal_patches(*ctx, layout);
+  measure_crease_conformity(*ctx, layout);
+  layout.defects = find_layout_defects(s, A, layout, ctx->surface_crease);
   return layout;
 }
 

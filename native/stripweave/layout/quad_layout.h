@@ -61,13 +61,23 @@
 //               shortest corridor path through the user's point, routed
 //               before the others, which keep clear of it; then the zig-zag of the mesh-edge paths
 //               is relaxed on the surface (primal_straightening.cpp).
+//               Where routed edges still share vertices, the mesh is too
+//               coarse for them (a vertex of valence 7 or more has about
+//               6 neighbours; a corridor can be one vertex wide): the
+//               refined mesh is refined around the crowded vertices
+//               (primal_vertex_stars.cpp, star_refinement.h) and the edges
+//               are routed again, up to kStarRounds times; the primal
+//               vertices stay where they are. A layout whose edges never
+//               share a vertex is not refined.
 //               A region whose creases form a star (crease_structure.h)
 //               takes its vertex at the star's node (a crease junction, end
 //               or boundary meeting), or on the crease when it has none.
 //     patches   primal_patches.cpp: the refined mesh cut along the primal
 //               edges; each piece holds one crossing, and its boundary is
 //               read as four sides (edge runs) between four corners.
-//   Output (normalized units): see QuadLayout. `problems` lists what keeps
+//   Output (normalized units): see QuadLayout, embedded in the arrangement
+//           and regions as they are on return: refined in place around
+//           crowded vertices (above), unchanged where no vertex is crowded. `problems` lists what keeps
 //           the embedding from being a clean quad layout (a patch without
 //           four sides, two edges sharing a stretch); the structure is
 //           still reported. `defects` holds the strict checks of the result
@@ -75,7 +85,7 @@
 #pragma once
 
 #include "stripweave/layout/cut_wedges.h"
-#include "stripweave/layout/edge_route.h"
+#include "stripweave/strips/edge_route.h"
 #include "stripweave/layout/layout_defects.h"
 #include "stripweave/layout/regions.h"
 #include "stripweave/surface/creases.h"
@@ -169,7 +179,13 @@ struct QuadLayout {
 
 constexpr double kCreaseSlack = 1e-6;  // of the bounding-box diagonal
 
-QuadLayout build_quad_layout(const Surface& surface, const LoopArrangement& arrangement, const Regions& regions,
+// Star refinements before the edges' routes stand: each round can double a
+// crowded vertex's neighbours (three take 6 to as many as 48), and a
+// corridor that three rounds do not open is blocked by the loops, not by
+// the mesh.
+constexpr int kStarRounds = 3;
+
+QuadLayout build_quad_layout(const Surface& surface, LoopArrangement& arrangement, Regions& regions,
                              const std::vector<Singularity>& singularities, const std::vector<Vec3>& pins = {},
                              const std::vector<Symmetry>& symmetries = {}, const std::vector<EdgeRoute>& routes = {});
 

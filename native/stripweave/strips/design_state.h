@@ -30,7 +30,7 @@
 #pragma once
 
 #include "stripweave/elastica/loop_session.h"
-#include "stripweave/layout/edge_route.h"
+#include "stripweave/strips/edge_route.h"
 #include "stripweave/strips/compatibility.h"
 #include "stripweave/symmetry/symmetry.h"
 
