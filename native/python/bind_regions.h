@@ -32,7 +32,8 @@ std::vector<stripweave::LoopPath> paths_from_dicts(const stripweave::Surface& s,
 // A region's assessment keys that regions() and weave_assessment() share (valence, disc,
 // colour, total_curvature, ideal_valence, euler_characteristic, boundaries, open_sides,
 // on_open_boundary, genus, area in model units squared: `scale2`, excess_extrema,
-// crease_problem, crease_excess), into `d`.
+// crease_problem, crease_excess, set_aside: on a component the layout left out,
+// layout/set_aside.h), into `d`.
 void put_region_keys(pybind11::dict& d, const stripweave::Region& r, double scale2);
 
 // The keys documented in bind_regions.cpp.

@@ -38,6 +38,20 @@ def component_labels(triangles, vertex_count):
     return labels
 
 
+def triangle_components(triangles, vertex_count):
+    """Per triangle, the id component_report gives its component: components numbered
+    largest first (by triangles), ties in the order of their lowest vertex label."""
+    triangles = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
+    labels = component_labels(triangles, vertex_count)
+    count = int(labels.max()) + 1 if len(labels) else 0
+    tri_label = labels[triangles[:, 0]]
+    sizes = np.bincount(tri_label, minlength=count)
+    order = sorted(range(count), key=lambda c: (-sizes[c], c))
+    rank = np.empty(count, dtype=np.int64)
+    rank[order] = np.arange(count)
+    return rank[tri_label]
+
+
 def _nearest_vertices(vertices, points, chunk=256):
     out = []
     for k in range(0, len(points), chunk):

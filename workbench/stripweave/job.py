@@ -158,17 +158,84 @@ def _export_step(ds, tolerance, path, symmetries=(), symmetry_tolerance=None, se
     return fit_report(result), result.get("triangle_uncovered")
 
 
-def _set_aside_components(layout, components):
-    """The components (report.json's "components" ids) the STEP leaves out when the layout is
-    not valid: those holding a red region, if some component holds none; else [] (a valid
-    layout, a one-component part, or nothing left to fit). A red region has no layout (paper
-    §4.2), but the loops of different components never meet, so the others' layout is the one
-    they would have alone (native layout/set_aside.h): an assembly whose weave leaves one solid
-    red still gets the other solids' patches (issue 18: everything it has is written)."""
+def _set_aside(ds, layout, components):
+    """What the STEP leaves out of an invalid layout, as native code decides it: the layout
+    of the components that hold no red region (layout_with(set_aside_red=True); native
+    layout/set_aside.h), and the report's ids of the components it sets aside. A red region
+    has no layout (paper §4.2), but the loops of different components never meet, so the
+    others' layout is the one they would have alone: an assembly whose weave leaves one solid
+    red still gets the other solids' patches (issue 18: everything it has is written).
+    Returns ([], None) for a valid layout, a one-component part, or when every component
+    holds a red region (native code then returns the full invalid layout)."""
     if layout["valid"] or not components:
-        return []
-    red = [c["component"] for c in components if c["red_regions"]]
-    return red if red and len(red) < len(components) else []
+        return [], None
+    import numpy as np
+    from .components import triangle_components
+    aside = ds.native.layout_with([], True, [], True)
+    if not aside["valid"]:
+        return [], None
+    flags = np.array([bool(r["set_aside"]) for r in aside["regions"]] + [False])
+    region = np.asarray(aside["triangle_region"], dtype=np.int64)
+    parent = np.asarray(aside["parent_triangle"], dtype=np.int64)
+    marked = np.unique(parent[flags[np.where(region < 0, len(flags) - 1, region)]])
+    if not len(marked):
+        return [], None
+    ids = triangle_components(ds.surface.triangles, len(ds.surface.vertices))
+    return sorted(set(int(c) for c in ids[marked])), aside
+
+
+def _write_step(ds, layout, details, report, components, paths, out, red_text, tolerance, symmetries,
+                symmetry_tolerance, preview, say, lap):
+    """weave's surfacing stage: patches.step, report.json's "fit" block and deviation.png.
+
+    A valid layout is fitted whole. An invalid one is fitted without the components that hold
+    a red region when some component holds none (_set_aside): everything the weave
+    has is written, and the error still says the layout is not valid. Otherwise there is no
+    STEP, and "fit" holds only the reason. Returns the error to raise once report.json is
+    written (it names the folder), or None."""
+    paths["step"] = os.path.join(out, "patches.step")
+    set_aside, aside = _set_aside(ds, layout, components)
+    invalid = f"cannot fit patches: the layout is not valid: {red_text}"
+    if not layout["valid"] and not set_aside:
+        return _no_step(report, paths, invalid, out, lap)
+    tol = tolerance if tolerance is not None else 1e-3 * report["bbox_diagonal"]
+    try:
+        report["fit"], uncovered = _export_step(ds, tol, paths["step"], symmetries,
+                                               symmetry_tolerance * report["bbox_diagonal"],
+                                               set_aside_red=bool(set_aside))
+    except native.InputError as exc:
+        # With components set aside, the others have no patch to fit either (a stray
+        # triangle beside the red part): the layout's own message.
+        return _no_step(report, paths, invalid if set_aside else str(exc), out, lap)
+    lap("step")
+    if set_aside:
+        report["fit"]["set_aside_components"] = set_aside
+        details = aside if details is not None else None
+    if preview:
+        say("rendering deviation.png")
+        from .preview import render_deviation
+        paths["deviation"] = os.path.join(out, "deviation.png")
+        with atomic_path(paths["deviation"]) as tmp:
+            render_deviation(tmp, ds, report["fit"], details=details, uncovered=uncovered)
+        lap("deviation")
+    if not set_aside:
+        return None
+    # Everything it has is written; the layout is still not valid, and says so.
+    message = (f"the layout is not valid: {red_text}; patches.step holds the {report['fit']['faces']} "
+               f"patches of the components without a red region (components "
+               f"{', '.join(str(c) for c in set_aside)} set aside; coverage "
+               f"{100 * report['fit']['coverage']:.1f} % of the part)")
+    report["fit"]["error"] = message
+    return native.InputError(f"{message} (design, layout and report are in {out})")
+
+
+def _no_step(report, paths, message, out, lap):
+    """No STEP: report.json's "fit" says why, and the error names the folder, where the design
+    and its layout are still worth having."""
+    report["fit"] = {"error": message}
+    del paths["step"]
+    lap("step")
+    return native.InputError(f"{message} (design, layout and report are in {out})")
 
 
 def _keep_backup(design_path, target):
@@ -325,52 +392,8 @@ def weave(model, design=None, auto=True, out=None, max_strips=None, patches=0, f
             del paths["preview"]
         if step:
             say("fitting patches (STEP)")
-            paths["step"] = os.path.join(out, "patches.step")
-            set_aside = _set_aside_components(layout, components)
-            try:
-                if not layout["valid"] and not set_aside:
-                    raise native.InputError(f"cannot fit patches: the layout is not valid: {red_text}")
-                tol = tolerance if tolerance is not None else 1e-3 * report["bbox_diagonal"]
-                try:
-                    report["fit"], uncovered = _export_step(ds, tol, paths["step"], symmetries,
-                                                           symmetry_tolerance * report["bbox_diagonal"],
-                                                           set_aside_red=bool(set_aside))
-                except native.InputError:
-                    if not set_aside:
-                        raise
-                    # The components without a red region have no patch to fit either (a
-                    # stray triangle beside the red part): the layout's own message.
-                    set_aside = []
-                    raise native.InputError(f"cannot fit patches: the layout is not valid: {red_text}") from None
-                lap("step")
-                if set_aside:
-                    report["fit"]["set_aside_components"] = set_aside
-                    details = ds.native.layout_with([], True, [], True) if details is not None else None
-                if preview:
-                    say("rendering deviation.png")
-                    from .preview import render_deviation
-                    paths["deviation"] = os.path.join(out, "deviation.png")
-                    with atomic_path(paths["deviation"]) as tmp:
-                        render_deviation(tmp, ds, report["fit"], details=details, uncovered=uncovered)
-                    lap("deviation")
-                if set_aside:
-                    # Everything it has is written; the layout is still not valid, and says so.
-                    raise native.InputError(
-                        f"the layout is not valid: {red_text}; patches.step holds the {report['fit']['faces']} "
-                        f"patches of the components without a red region (components "
-                        f"{', '.join(str(c) for c in set_aside)} set aside; coverage "
-                        f"{100 * report['fit']['coverage']:.1f} % of the part)")
-            except native.InputError as exc:
-                # The design and its layout are still worth having: report.json says why
-                # there is no STEP (or why it covers only part of the model: set aside),
-                # and the error names the folder.
-                if set_aside and "coverage" in report.get("fit", {}):
-                    report["fit"]["error"] = str(exc)
-                else:
-                    report["fit"] = {"error": str(exc)}
-                    del paths["step"]
-                step_error = native.InputError(f"{exc} (design, layout and report are in {out})")
-                lap("step")
+            step_error = _write_step(ds, layout, details, report, components, paths, out, red_text,
+                                     tolerance, symmetries, symmetry_tolerance, preview, say, lap)
     timings.update({f"strips_{k}": v for k, v in ds.timings_ms().items()})
     timings.update({f"layout_{k}": v for k, v in layout.get("timings_ms", {}).items()})
     timings["total"] = sum(v for k, v in timings.items() if "_" not in k)
