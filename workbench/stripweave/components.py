@@ -38,18 +38,24 @@ def component_labels(triangles, vertex_count):
     return labels
 
 
-def triangle_components(triangles, vertex_count):
-    """Per triangle, the id component_report gives its component: components numbered
-    largest first (by triangles), ties in the order of their lowest vertex label."""
+def report_labels(triangles, vertex_count):
+    """Per vertex, the id component_report gives its component: components numbered largest
+    first (by triangles), ties in the order of component_labels. The one numbering of the
+    report, the job's set-aside components and triangle_components."""
     triangles = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
     labels = component_labels(triangles, vertex_count)
     count = int(labels.max()) + 1 if len(labels) else 0
-    tri_label = labels[triangles[:, 0]]
-    sizes = np.bincount(tri_label, minlength=count)
+    sizes = np.bincount(labels[triangles[:, 0]], minlength=count)
     order = sorted(range(count), key=lambda c: (-sizes[c], c))
     rank = np.empty(count, dtype=np.int64)
     rank[order] = np.arange(count)
-    return rank[tri_label]
+    return rank[labels]
+
+
+def triangle_components(triangles, vertex_count):
+    """Per triangle, the id component_report gives its component (report_labels)."""
+    triangles = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
+    return report_labels(triangles, vertex_count)[triangles[:, 0]]
 
 
 def _nearest_vertices(vertices, points, chunk=256):
@@ -64,7 +70,7 @@ def _nearest_vertices(vertices, points, chunk=256):
 def component_report(surface, layout, red_regions=()):
     vertices = np.asarray(surface.vertices, float)
     triangles = np.asarray(surface.triangles, dtype=np.int64)
-    labels = component_labels(triangles, len(vertices))
+    labels = report_labels(triangles, len(vertices))
     count = int(labels.max()) + 1 if len(labels) else 0
     if count <= 1:
         return []
@@ -91,7 +97,4 @@ def component_report(surface, layout, red_regions=()):
         entries[c]["red_regions"] += 1
     for e in entries:
         e["clean"] = bool(layout.get("valid")) and e["patches"] > 0 and not e["red_regions"] and not e["defects"]
-    entries.sort(key=lambda e: (-e["triangles"], e["component"]))
-    for i, e in enumerate(entries):
-        e["component"] = i
     return entries

@@ -5,9 +5,8 @@
 #include "stripweave/layout/star_refinement.h"
 #include "stripweave/surface/creases.h"
 
-#include <memory>
-
 #include <limits>
+#include <memory>
 #include <queue>
 
 namespace stripweave {

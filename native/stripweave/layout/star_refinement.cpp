@@ -4,8 +4,6 @@
 
 #include "stripweave/layout/cut_wedges.h"
 
-#include <algorithm>
-
 namespace stripweave {
 
 namespace {
@@ -60,8 +58,8 @@ Index triangle_with(const TriangleMesh& m, const MeshTopology& t, Index e, Index
 }
 
 // Every per-edge array of the arrangement and regions, from the old
-// topology's numbering to the new one's (old_edge: per new edge, the old edge
-// with the same ends, kInvalid for a new edge).
+// topology's numbering to the new one's (old_of_new: per new edge, the old
+// edge with the same ends, kInvalid for a new edge).
 void renumber_edges(const MeshTopology& old_topology, const std::vector<Index>& old_of_new, LoopArrangement& A,
                     Regions& G) {
   const Index ne = A.topology.num_edges();
