@@ -396,6 +396,46 @@ def test_removing_the_strip_just_added_gives_back_the_same_state():
         assert np.array_equal(two.strip(i)["points"], three.strip(i)["points"])
 
 
+def test_going_back_to_the_mask_parameters_of_a_design_derives_nothing_again():
+    """Weaving tries its refinement band on the whole design and, when the band refuses it,
+    goes back to the paper's mask; that second full derivation (every strip's prefix solved
+    and its loop searched again) cost a third of the weave on some parts. The state derived
+    under the old parameters is kept and taken back: no solve runs (an armed failing solve
+    would raise), and strips and mask are those derived before. A failed derivation under
+    the band does not displace it; once the strips change, it is forgotten."""
+    surface = sw.from_shape(box(10), target_triangles=6000)
+    ds = DesignSession(surface, Design(CUBE_BELTS[:2]))
+    before = ([ds.strip(i)["points"].copy() for i in range(2)], list(ds.native.disabled_nodes()))
+    anchors = ds.design.anchor_lists()
+    ds.native.compatibility_band = 1.0
+    ds.native._fail_solves_for_test(1)          # the derivation under the band fails
+    with pytest.raises(sw.InputError, match="failed on purpose"):
+        ds.native.set_strips(anchors)
+    ds.native.compatibility_band = math.inf
+    ds.native._fail_solves_for_test(1)          # a solve now would fail: none runs
+    ds.native.set_strips(anchors)
+    ds.native._fail_solves_for_test(0)
+    assert ds.native.strip_count == 2
+    for i in range(2):
+        assert np.array_equal(ds.strip(i)["points"], before[0][i])
+    assert list(ds.native.disabled_nodes()) == before[1]
+    # Under a band that accepts the design, then back: the same.
+    ds.native.compatibility_angle = 60.0
+    ds.native.set_strips(anchors)
+    ds.native.compatibility_angle = 45.0
+    ds.native._fail_solves_for_test(1)
+    ds.native.set_strips(anchors)
+    assert list(ds.native.disabled_nodes()) == before[1]
+    # The kept state is for these strips only: changed strips derive afresh.
+    ds.native._fail_solves_for_test(0)
+    ds.native.compatibility_angle = 60.0
+    ds.native.set_strips(anchors[:1])
+    ds.native.compatibility_angle = 45.0
+    ds.native._fail_solves_for_test(1)
+    with pytest.raises(sw.InputError, match="failed on purpose"):
+        ds.native.set_strips(anchors)
+
+
 def test_a_wider_compatibility_angle_refuses_more_directions(torus_meridian, torus_surface):
     """compatibility_angle_deg (45, the paper's, by default) is how close to a strip's direction
     a later loop may not run: 60 refuses more g' nodes, asking for crossings nearer to right
@@ -455,18 +495,21 @@ def test_a_failing_solve_leaves_every_kept_strip_derived(failing):
     a std::runtime_error, not an InputError), which set_strips let escape with the new strip
     kept but never extracted: reading it indexed an empty coverage and killed the process.
     Now any failure of the final solve ends as an InputError naming the strip, with the strips
-    before it fully derived (failing = 1), or with none when their solve fails too (2); and
-    the design works on afterwards (DesignSession.add_strip leaves it as it was)."""
+    before it fully derived; and the design works on afterwards (DesignSession.add_strip
+    leaves it as it was). A strip appended and refused leaves the state from before it, with
+    no solve (weaving tries and refuses dozens): so even a second failing solve (failing = 2)
+    does not cost the first strip."""
     session = DesignSession(sw.from_shape(box(10), target_triangles=6000), Design([CUBE_BELTS[0]]))
+    first = session.strip(0)["points"].copy()
     both = Design([CUBE_BELTS[0], CUBE_BELTS[1]]).anchor_lists()
     session.native._fail_solves_for_test(failing)
     with pytest.raises(sw.InputError, match="strip 2: .*failed on purpose"):
         session.native.set_strips(both)
-    kept = session.native.strip_count
-    assert kept == (1 if failing == 1 else 0)
-    for i in range(kept):                       # every kept strip is readable and whole
-        strip = session.native.strip(i)
-        assert strip["area_fraction"] > 0 and len(strip["triangles"]) > 0
+    assert session.native.strip_count == 1
+    strip = session.native.strip(0)                # readable and whole: the state before
+    assert strip["area_fraction"] > 0 and len(strip["triangles"]) > 0
+    assert np.array_equal(strip["points"], first)
+    session.native._fail_solves_for_test(0)
     session.update()                            # and the design goes on
     session.add_strip(list(CUBE_BELTS[1][0:1]))
     assert session.native.strip_count == 2 and session.native.strip(1)["area_fraction"] > 0
@@ -474,6 +517,24 @@ def test_a_failing_solve_leaves_every_kept_strip_derived(failing):
     with pytest.raises(sw.InputError):
         session.add_strip(list(CUBE_BELTS[2]))
     assert len(session.design.strips) == 2 and session.native.strip_count == 2
+
+
+def test_a_failing_solve_after_an_edit_inside_the_design_leaves_a_consistent_prefix():
+    """Where the strips before the failing one are not the state from before the edit (a strip
+    inserted before the last: the mask of the strips before it is solved first, and fails),
+    the state from before is not taken back as if it were theirs: what is kept is derived
+    again (here: nothing before strip 1), never a strip without its extraction, and the same
+    edit goes through once the solves work."""
+    surface = sw.from_shape(box(10), target_triangles=6000)
+    session = DesignSession(surface, Design([CUBE_BELTS[0], CUBE_BELTS[2]]))
+    inserted = Design([CUBE_BELTS[0], CUBE_BELTS[1], CUBE_BELTS[2]]).anchor_lists()
+    session.native._fail_solves_for_test(1)
+    with pytest.raises(sw.InputError, match="strip 1: .*failed on purpose"):
+        session.native.set_strips(inserted)
+    assert session.native.strip_count == 0
+    session.native.set_strips(inserted)
+    assert session.native.strip_count == 3
+    assert all(session.native.strip(i)["area_fraction"] > 0 for i in range(3))
 
 
 def test_a_loop_its_strip_does_not_cover_still_keeps_later_loops_from_running_along_it(torus_surface):

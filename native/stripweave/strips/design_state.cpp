@@ -86,6 +86,13 @@ std::size_t bytes(const std::vector<DesignStrip>& strips) {
   return b;
 }
 
+// Whether `strips` are those of exactly the first `count` of `specs`.
+bool strips_of(const std::vector<DesignStrip>& strips, const std::vector<StripSpec>& specs, std::size_t count) {
+  return strips.size() == count && count <= specs.size() &&
+         std::equal(strips.begin(), strips.end(), specs.begin(),
+                    [](const DesignStrip& d, const StripSpec& s) { return d.spec == s; });
+}
+
 std::size_t bytes(const CrossField& f) {
   return bytes(f.frame_x) + bytes(f.normal) + bytes(f.theta) + bytes(f.direction) + bytes(f.strength) +
          bytes(f.constrained) + bytes(f.rho) + bytes(f.matching) + bytes(f.singularities);
@@ -104,7 +111,8 @@ DesignState::MemoryBytes DesignState::memory_bytes() const {
   m.field = bytes(field_);
   m.param = bytes(param_);
   m.mask = bytes(mask_);
-  m.previous = bytes(previous_.strips) + bytes(previous_.field) + bytes(previous_.param) + bytes(previous_.mask);
+  for (const Derived* d : {&previous_, stashed_ ? &stashed_->derived : nullptr})
+    if (d) m.previous += bytes(d->strips) + bytes(d->field) + bytes(d->param) + bytes(d->mask);
   return m;
 }
 
@@ -120,39 +128,42 @@ void DesignState::set_strips(const std::vector<StripSpec>& specs) {
   // A session whose graph was released (LoopSession::release_graph) can derive
   // nothing: refused before anything derived is touched.
   session_->graph();
+  if (restore_stashed(specs)) return;
+  complete_ = false;
   // Back to the design before the last edit (a rejected strip removed): swap
   // the kept state back in, and keep the edited one in its place (redo).
-  if (previous_.valid && specs.size() == previous_.strips.size() &&
-      std::equal(specs.begin(), specs.end(), previous_.strips.begin(),
-                 [](const StripSpec& s, const DesignStrip& d) { return s == d.spec; })) {
+  if (previous_.valid && strips_of(previous_.strips, specs, specs.size())) {
     swap_derived(previous_);
     session_->clear_disabled();
+    complete_ = true;
     return;
   }
-  bool same = specs.size() == strips_.size();
-  for (size_t i = 0; same && i < specs.size(); ++i) same = specs[i] == strips_[i].spec;
+  // Nothing changed: every exit of set_strips leaves each strip kept fully
+  // derived, field, S and mask those of exactly these strips.
+  if (strips_of(strips_, specs, specs.size())) {
+    session_->clear_disabled();
+    complete_ = true;
+    return;
+  }
   // Keep the unchanged prefix: its loops and masks do not depend on later strips.
   size_t keep = 0;
   while (keep < specs.size() && keep < strips_.size() && specs[keep] == strips_[keep].spec) ++keep;
   const size_t derived = strips_.size();  // mask_ is the mask of these strips (finish())
-  if (!same) {
-    // The state before this edit, for going back to it. Moved, not copied: finish()
-    // replaces the field, S and every strip's extraction anyway, so the edit keeps of
-    // its prefix only the anchors, loops and paths (a copy of the extractions, each
-    // some 50 bytes per surface triangle, was a third full design during the solve).
-    previous_ = Derived{std::move(strips_), std::move(field_), std::move(param_), timings_, mask_, true};
-    strips_.clear();
-    field_ = {};
-    param_ = {};
-    for (size_t i = 0; i < keep; ++i) {
-      DesignStrip d;
-      d.spec = previous_.strips[i].spec;
-      d.loop = previous_.strips[i].loop;
-      d.path = previous_.strips[i].path;
-      strips_.push_back(std::move(d));
-    }
+  // The state before this edit, for going back to it. Moved, not copied: finish()
+  // replaces the field, S and every strip's extraction anyway, so the edit keeps of
+  // its prefix only the anchors, loops and paths (a copy of the extractions, each
+  // some 50 bytes per surface triangle, was a third full design during the solve).
+  previous_ = Derived{std::move(strips_), std::move(field_), std::move(param_), timings_, mask_, true};
+  strips_.clear();
+  field_ = {};
+  param_ = {};
+  for (size_t i = 0; i < keep; ++i) {
+    DesignStrip d;
+    d.spec = previous_.strips[i].spec;
+    d.loop = previous_.strips[i].loop;
+    d.path = previous_.strips[i].path;
+    strips_.push_back(std::move(d));
   }
-  strips_.resize(keep);
 
   double loops_ms = 0;
   std::vector<LoopPath> paths;
@@ -180,10 +191,18 @@ void DesignState::set_strips(const std::vector<StripSpec>& specs) {
     }
     throw;
   };
+  // The strips before the failing one, derived: the state from before the edit
+  // when they are its strips (a strip appended and refused, as automatic weaving
+  // tries them), else solved again.
   auto fail = [&](size_t failing, const std::string& what) {
     session_->clear_disabled();
     strips_.resize(failing);
     paths.resize(failing);
+    if (previous_.valid && strips_of(previous_.strips, specs, failing)) {
+      swap_derived(previous_);
+      previous_ = {};
+      throw InputError("strip " + std::to_string(failing + 1) + ": " + what);
+    }
     try {
       finish(paths, loops_ms);
     } catch (const Cancelled&) {
@@ -259,6 +278,22 @@ void DesignState::set_strips(const std::vector<StripSpec>& specs) {
     if (strips_.empty()) throw;
     fail(strips_.size() - 1, e.what());
   }
+  complete_ = true;
+}
+
+bool DesignState::restore_stashed(const std::vector<StripSpec>& specs) {
+  if (!stashed_) return false;
+  if (!strips_of(stashed_->derived.strips, specs, specs.size())) {
+    stashed_.reset();
+    return false;
+  }
+  if (stashed_->band != band_ || stashed_->angle_deg != angle_deg_) return false;
+  swap_derived(stashed_->derived);
+  stashed_.reset();
+  previous_ = {};
+  complete_ = true;
+  session_->clear_disabled();
+  return true;
 }
 
 // The compatibility mask is a prediction from the earlier strips'
@@ -352,27 +387,34 @@ void DesignState::finish(const std::vector<LoopPath>& paths, double loops_ms, st
 
 void DesignState::set_compatibility_angle(double degrees) {
   if (!(degrees > 0 && degrees < 90)) throw InputError("the compatibility angle must be within (0, 90) degrees");
-  if (degrees == angle_deg_) return;
-  angle_deg_ = degrees;
-  rederive_all();
+  if (degrees != angle_deg_) rederive_all(band_, degrees);
 }
 
 void DesignState::set_compatibility_band(double band) {
   if (!(band > 0)) throw InputError("the compatibility band must be positive (or unbounded)");
-  if (band == band_) return;
-  band_ = band;
-  rederive_all();
+  if (band != band_) rederive_all(band, angle_deg_);
 }
 
-void DesignState::rederive_all() {
+void DesignState::rederive_all(double band, double angle_deg) {
   // Every prefix mask depends on the band and the angle: derive everything again
-  // (from an empty, consistent state, so that nothing derived before is restored).
+  // (from an empty, consistent state, so that nothing derived before is restored
+  // as if derived under the new parameters). One state is kept: the one derived
+  // under the new parameters if there is one (going back to them), else the
+  // current one if complete (for going back to the old parameters); a partial one
+  // (a failed derivation) never displaces a complete one.
+  const bool back = stashed_ && stashed_->band == band && stashed_->angle_deg == angle_deg;
+  if (!back && complete_ && !strips_.empty())
+    stashed_ = Stashed{Derived{std::move(strips_), std::move(field_), std::move(param_), timings_, mask_, true},
+                       band_, angle_deg_};
+  band_ = band;
+  angle_deg_ = angle_deg;
   strips_.clear();
   field_ = {};
   param_ = {};
   timings_ = {};
   mask_.clear();
   previous_ = {};
+  complete_ = true;
 }
 
 std::vector<Index> DesignState::mask_of(const std::vector<LoopPath>& paths, const std::vector<Strip>& strips) const {

@@ -24,7 +24,13 @@
 // full design one more. Going back to the design before the last edit (a strip
 // tried and removed again, as automatic weaving does for every rejected
 // proposal) restores the state kept from before that edit instead of solving
-// again: the solve is a function of the loops, so the result is the same.
+// again: the solve is a function of the loops, so the result is the same;
+// a strip appended and refused (InputError) leaves that state in place, and
+// set_strips of the strips as they stand solves nothing.
+// Likewise a change of the mask's parameters (band, angle) keeps the state
+// derived under the old ones: changed back before the strips change (weaving
+// tries a band and may keep the paper's mask, weave.py), the same strips take
+// it back instead of deriving every strip again.
 // Errors: InputError naming the strip ("strip 3: ...") for an anchor off
 // the surface or constraints no loop can meet.
 #pragma once
@@ -128,8 +134,12 @@ class DesignState {
     bool valid = false;
   };
   void swap_derived(Derived& d);
-  // Forget everything derived (the mask's parameters changed).
-  void rederive_all();
+  // The mask's parameters change to (band, angle): everything derived is set
+  // aside in stashed_ (if complete) and derived again at the next set_strips.
+  void rederive_all(double band, double angle_deg);
+  // Take the stashed state back if it was derived for exactly these specs under
+  // the current parameters; forget it once the strips differ from its own.
+  bool restore_stashed(const std::vector<StripSpec>& specs);
 
   struct Solved {
     CrossField field;
@@ -173,6 +183,15 @@ class DesignState {
   DesignTimings timings_;
   std::vector<Index> mask_;  // disabled_nodes(), derived with the strips
   Derived previous_;         // the derived state before the last edit
+  // The complete derived state under other mask parameters (rederive_all).
+  struct Stashed {
+    Derived derived;
+    double band = 0, angle_deg = 0;
+  };
+  std::optional<Stashed> stashed_;
+  // Whether strips_ holds every strip of the last set_strips, derived: only
+  // such a state is stashed (a failed derivation keeps a prefix).
+  bool complete_ = true;
   // The surface's elimination order for S (parameterization.h), computed at
   // the first solve: it depends on the mesh alone.
   mutable std::vector<Index> vertex_order_;
