@@ -146,6 +146,7 @@ void BrepSource::release_caches() const {
   for (auto& a : s.analysers) a.reset();
   for (auto& c : s.classifiers) c.reset();
   for (auto& a : s.adaptors) a.reset();
+  for (auto& c : s.edge_curves) c.reset();
 }
 
 void BrepSource::forget_warm_starts() const { std::fill(impl_->has_last_uv.begin(), impl_->has_last_uv.end(), 0); }
@@ -175,6 +176,8 @@ BoundingBox box_of(const TopoDS_Shape& shape) {
 BoundingBox BrepSource::bounding_box() const { return box_of(impl_->shape); }
 
 BoundingBox BrepSource::face_bounding_box(Index face) const { return box_of(impl_->face(face)); }
+
+BoundingBox BrepSource::edge_bounding_box(Index edge) const { return box_of(impl_->edge(edge)); }
 
 BrepTessellation BrepSource::tessellate(double linear_deflection, double angular_deflection_rad) const {
   const Impl& s = *impl_;
@@ -393,8 +396,11 @@ Vec3 BrepSource::project_to_edge(Index e, const Vec3& p, double* distance) const
   double best_d = std::numeric_limits<double>::infinity();
   if (!BRep_Tool::Degenerated(edge)) {
     try {
-      BRepAdaptor_Curve curve(edge);
-      Extrema_ExtPC ext(to_pnt(p), curve);
+      std::unique_ptr<Impl::EdgeCurve>& cached = impl_->edge_curves[e];
+      if (!cached) cached = std::make_unique<Impl::EdgeCurve>(edge);
+      const BRepAdaptor_Curve& curve = cached->curve;
+      Extrema_ExtPC& ext = cached->extrema;
+      ext.Perform(to_pnt(p));
       if (ext.IsDone())
         for (int i = 1; i <= ext.NbExt(); ++i)
           if (ext.SquareDistance(i) < best_d) best_d = ext.SquareDistance(i), best = to_vec(ext.Point(i).Value());

@@ -112,6 +112,7 @@ class BrepSource {
   Index num_edges() const;
   BoundingBox bounding_box() const;
   BoundingBox face_bounding_box(Index face) const;  // from its geometry (conservative)
+  BoundingBox edge_bounding_box(Index edge) const;  // likewise
 
   BrepTessellation tessellate(double linear_deflection, double angular_deflection_rad) const;
   std::vector<bool> sharp_edges(double angle_deg) const;

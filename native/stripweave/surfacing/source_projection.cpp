@@ -34,6 +34,8 @@ void SourceProjector::use_brep(const BrepSource* brep) {
   face_edges_known_.assign(brep->num_faces(), false);
   face_box_.assign(brep->num_faces(), BoundingBox());
   face_box_known_.assign(brep->num_faces(), false);
+  edge_box_.assign(brep->num_edges(), BoundingBox());
+  edge_box_known_.assign(brep->num_edges(), false);
 }
 
 void SourceProjector::forget_warm_starts() const {
@@ -81,10 +83,25 @@ Vec3 SourceProjector::on_faces(const std::vector<Index>& faces, const Vec3& p) c
   return std::isfinite(best_inside_d) ? best_inside : best;
 }
 
+namespace {
+
+// A lower bound of the distance from p to anything within the box (0 for a
+// void box: nothing known, nothing skipped).
+double distance_to(const BoundingBox& b, const Vec3& p) {
+  if ((b.min.array() > b.max.array()).any()) return 0;
+  return (b.min - p).cwiseMax(p - b.max).cwiseMax(0.0).norm();
+}
+
+}  // namespace
+
 double SourceProjector::box_distance(Index face, const Vec3& p) const {
   if (!face_box_known_[face]) face_box_[face] = brep_->face_bounding_box(face), face_box_known_[face] = true;
-  const BoundingBox& b = face_box_[face];
-  return (b.min - p).cwiseMax(p - b.max).cwiseMax(0.0).norm();
+  return distance_to(face_box_[face], p);
+}
+
+double SourceProjector::edge_box_distance(Index edge, const Vec3& p) const {
+  if (!edge_box_known_[edge]) edge_box_[edge] = brep_->edge_bounding_box(edge), edge_box_known_[edge] = true;
+  return distance_to(edge_box_[edge], p);
 }
 
 Vec3 SourceProjector::nearest_on_edges(const std::vector<Index>& faces, const Vec3& p, double* distance) const {
@@ -105,9 +122,17 @@ Vec3 SourceProjector::nearest_on_edges(const std::vector<Index>& faces, const Ve
     if (edges[k] == edges[k - 1] && (shared.empty() || shared.back() != edges[k])) shared.push_back(edges[k]);
   edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
   if (!shared.empty()) edges = std::move(shared);
+  // Nearest edge boxes first: an edge whose box lies farther than the nearest
+  // point found cannot offer a nearer one (the whole part's edges, for the
+  // deviation's second look, were two thirds of a refit's time).
+  std::vector<std::pair<double, Index>> order;
+  order.reserve(edges.size());
+  for (Index e : edges) order.push_back({edge_box_distance(e, p), e});
+  std::sort(order.begin(), order.end());
   Vec3 best = p;
   double best_d = std::numeric_limits<double>::infinity();
-  for (Index e : edges) {
+  for (const auto& [box_d, e] : order) {
+    if (box_d > best_d) break;
     double d;
     const Vec3 q = brep_->project_to_edge(e, p, &d);
     if (d < best_d) best_d = d, best = q;

@@ -57,6 +57,7 @@ class SourceProjector {
  private:
   Vec3 fallback(const Vec3& p) const;
   double box_distance(Index face, const Vec3& p) const;
+  double edge_box_distance(Index edge, const Vec3& p) const;
   Vec3 nearest_on_edges(const std::vector<Index>& faces, const Vec3& p, double* distance) const;
   SourceProjector() = default;
   void use_brep(const BrepSource* brep);  // and size its per-face caches
@@ -68,6 +69,8 @@ class SourceProjector {
   mutable std::vector<bool> face_edges_known_;
   mutable std::vector<BoundingBox> face_box_;  // per B-rep face, lazily
   mutable std::vector<bool> face_box_known_;
+  mutable std::vector<BoundingBox> edge_box_;  // per B-rep edge, lazily
+  mutable std::vector<bool> edge_box_known_;
 };
 
 }  // namespace stripweave
