@@ -32,10 +32,8 @@ void SourceProjector::use_brep(const BrepSource* brep) {
   brep_ = brep;
   face_edges_.assign(brep->num_faces(), {});
   face_edges_known_.assign(brep->num_faces(), false);
-  face_box_.assign(brep->num_faces(), BoundingBox());
-  face_box_known_.assign(brep->num_faces(), false);
-  edge_box_.assign(brep->num_edges(), BoundingBox());
-  edge_box_known_.assign(brep->num_edges(), false);
+  face_boxes_ = {std::vector<BoundingBox>(brep->num_faces()), std::vector<bool>(brep->num_faces(), false)};
+  edge_boxes_ = {std::vector<BoundingBox>(brep->num_edges()), std::vector<bool>(brep->num_edges(), false)};
 }
 
 void SourceProjector::forget_warm_starts() const {
@@ -62,7 +60,7 @@ Vec3 SourceProjector::on_faces(const std::vector<Index>& faces, const Vec3& p) c
   std::vector<std::pair<double, Index>> order;
   for (Index f : faces) {
     if (f < 0 || f >= brep_->num_faces()) continue;
-    order.push_back({trimmed ? box_distance(f, p) : 0.0, f});
+    order.push_back({trimmed ? box_distance(face_boxes_, f, p, &BrepSource::face_bounding_box) : 0.0, f});
   }
   std::sort(order.begin(), order.end());
   for (const auto& [box_d, f] : order) {
@@ -94,24 +92,23 @@ double distance_to(const BoundingBox& b, const Vec3& p) {
 
 }  // namespace
 
-double SourceProjector::box_distance(Index face, const Vec3& p) const {
-  if (!face_box_known_[face]) face_box_[face] = brep_->face_bounding_box(face), face_box_known_[face] = true;
-  return distance_to(face_box_[face], p);
-}
-
-double SourceProjector::edge_box_distance(Index edge, const Vec3& p) const {
-  if (!edge_box_known_[edge]) edge_box_[edge] = brep_->edge_bounding_box(edge), edge_box_known_[edge] = true;
-  return distance_to(edge_box_[edge], p);
+double SourceProjector::box_distance(LazyBoxes& boxes, Index i, const Vec3& p,
+                                     BoundingBox (BrepSource::*of)(Index) const) const {
+  if (!boxes.known[i]) boxes.box[i] = (brep_->*of)(i), boxes.known[i] = true;
+  return distance_to(boxes.box[i], p);
 }
 
 Vec3 SourceProjector::nearest_on_edges(const std::vector<Index>& faces, const Vec3& p, double* distance) const {
   std::vector<Index> edges;
   for (Index f : faces) {
     if (f < 0 || f >= brep_->num_faces()) continue;
-    if (!face_edges_known_[f]) face_edges_[f] = brep_->face_edges(f), face_edges_known_[f] = true;
-    std::vector<Index> own = face_edges_[f];
-    std::sort(own.begin(), own.end());
-    own.erase(std::unique(own.begin(), own.end()), own.end());
+    std::vector<Index>& own = face_edges_[f];
+    if (!face_edges_known_[f]) {
+      own = brep_->face_edges(f);  // a seam edge bounds its face twice
+      std::sort(own.begin(), own.end());
+      own.erase(std::unique(own.begin(), own.end()), own.end());
+      face_edges_known_[f] = true;
+    }
     edges.insert(edges.end(), own.begin(), own.end());
   }
   std::sort(edges.begin(), edges.end());
@@ -127,7 +124,7 @@ Vec3 SourceProjector::nearest_on_edges(const std::vector<Index>& faces, const Ve
   // deviation's second look, were two thirds of a refit's time).
   std::vector<std::pair<double, Index>> order;
   order.reserve(edges.size());
-  for (Index e : edges) order.push_back({edge_box_distance(e, p), e});
+  for (Index e : edges) order.push_back({box_distance(edge_boxes_, e, p, &BrepSource::edge_bounding_box), e});
   std::sort(order.begin(), order.end());
   Vec3 best = p;
   double best_d = std::numeric_limits<double>::infinity();

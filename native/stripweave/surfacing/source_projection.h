@@ -56,8 +56,13 @@ class SourceProjector {
 
  private:
   Vec3 fallback(const Vec3& p) const;
-  double box_distance(Index face, const Vec3& p) const;
-  double edge_box_distance(Index edge, const Vec3& p) const;
+  // Per B-rep face or edge, its bounding box (from the geometry), when first asked for.
+  struct LazyBoxes {
+    std::vector<BoundingBox> box;
+    std::vector<bool> known;
+  };
+  // A lower bound of the distance from p to face or edge i (`of` names the box).
+  double box_distance(LazyBoxes& boxes, Index i, const Vec3& p, BoundingBox (BrepSource::*of)(Index) const) const;
   Vec3 nearest_on_edges(const std::vector<Index>& faces, const Vec3& p, double* distance) const;
   SourceProjector() = default;
   void use_brep(const BrepSource* brep);  // and size its per-face caches
@@ -65,12 +70,9 @@ class SourceProjector {
   std::shared_ptr<const BrepSource> own_brep_;  // a thread copy's
   std::unique_ptr<SurfaceLocator> locator_;
   double edge_snap_ = 0;
-  mutable std::vector<std::vector<Index>> face_edges_;  // per B-rep face, lazily
+  mutable std::vector<std::vector<Index>> face_edges_;  // per B-rep face, lazily: sorted, distinct
   mutable std::vector<bool> face_edges_known_;
-  mutable std::vector<BoundingBox> face_box_;  // per B-rep face, lazily
-  mutable std::vector<bool> face_box_known_;
-  mutable std::vector<BoundingBox> edge_box_;  // per B-rep edge, lazily
-  mutable std::vector<bool> edge_box_known_;
+  mutable LazyBoxes face_boxes_, edge_boxes_;
 };
 
 }  // namespace stripweave
