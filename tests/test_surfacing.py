@@ -357,3 +357,52 @@ def test_vertex_tangent_planes_option():
             normals.setdefault(key, []).append(f.Surface.normal(u, v))
     worst = max(math.degrees(ns[0].getAngle(n)) for ns in normals.values() for n in ns)
     assert len(normals) == 98 and worst < 0.01  # 0.14 deg without the option
+
+
+def _cox_de_boor(knots, i, p, t, derivative=0):
+    """N_{i,p}(t) or its derivative, by the recursion of The NURBS Book (2.5, 2.9), with
+    0/0 = 0 and the last span closed at its end: the reference for the span table."""
+    if derivative:
+        if p == 0:
+            return 0.0
+        out = 0.0
+        if knots[i + p] > knots[i]:
+            out += p / (knots[i + p] - knots[i]) * _cox_de_boor(knots, i, p - 1, t, derivative - 1)
+        if knots[i + p + 1] > knots[i + 1]:
+            out -= p / (knots[i + p + 1] - knots[i + 1]) * _cox_de_boor(knots, i + 1, p - 1, t, derivative - 1)
+        return out
+    if p == 0:
+        last = knots[-1]
+        inside = knots[i] <= t < knots[i + 1] or (t == last and knots[i] < knots[i + 1] == last)
+        return 1.0 if inside else 0.0
+    out = 0.0
+    if knots[i + p] > knots[i]:
+        out += (t - knots[i]) / (knots[i + p] - knots[i]) * _cox_de_boor(knots, i, p - 1, t)
+    if knots[i + p + 1] > knots[i + 1]:
+        out += (knots[i + p + 1] - t) / (knots[i + p + 1] - knots[i + 1]) * _cox_de_boor(knots, i + 1, p - 1, t)
+    return out
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 4, 5, 6, 9])
+def test_the_cubic_basis_agrees_with_cox_de_boor_on_every_span_of_the_clamped_uniform_knots(n):
+    """cubic_basis evaluates each span of the clamped uniform cubic spline from one of nine
+    span shapes (bspline.cpp). Against the textbook recursion on the knot vector
+    0,0,0,0, 1/n, .., 1,1,1,1: the four nonzero functions, their first and second
+    derivatives and the first index, at points inside every span, at the knots and at both
+    ends, for spline sizes whose end spans meet (n < 5) and ones with uniform spans between.
+    The functions also sum to one and their derivatives to zero."""
+    knots = [0.0] * 4 + [k / n for k in range(1, n)] + [1.0] * 4
+    ts = sorted(set([0.0, 1.0] + [k / n for k in range(n + 1)] + [(k + f) / n for k in range(n)
+                                                                  for f in (0.13, 0.5, 0.91)]))
+    for t in ts:
+        first, N, dN, d2N = native.cubic_basis(n, t)
+        assert first == min(n - 1, int(math.floor(t * n)))
+        for a in range(4):
+            i = first + a
+            assert N[a] == pytest.approx(_cox_de_boor(knots, i, 3, t), abs=1e-13)
+            assert dN[a] == pytest.approx(_cox_de_boor(knots, i, 3, t, 1), abs=1e-11 * n)
+            assert d2N[a] == pytest.approx(_cox_de_boor(knots, i, 3, t, 2), abs=1e-10 * n * n)
+        assert sum(N) == pytest.approx(1.0, abs=1e-14)
+        assert abs(sum(dN)) < 1e-12 * n and abs(sum(d2N)) < 1e-11 * n * n
+    with pytest.raises(ValueError, match="span"):
+        native.cubic_basis(0, 0.5)

@@ -1309,3 +1309,24 @@ def test_the_crease_pass_under_the_band_takes_nothing_back():
     start = time.perf_counter()
     a = _crease_phase_under_the_band(w, w, options, WeaveResult(), lambda: time.perf_counter() - start)
     assert a["colours"]["red"] == 0 and [s.name for s in w.design.strips] == ["crease 0", "red"]
+
+
+def test_principal_anchors_sit_at_the_nearest_vertex_along_the_cylinder_s_principal_directions():
+    """The weave's fallback query runs along the principal directions (§5.5) at the surface
+    vertex nearest to the point: on an open cylinder of radius 5, a point off the surface
+    (radius 7) gets a vertex on the cylinder (radius 5) and the two directions are the
+    axis and the ring around it, orthogonal to each other. A point of the wrong size is a
+    one-line error, and so is a negative seed count for the assessment."""
+    tube = sw.from_shape(open_cylinder_shell(5.0, 20.0), target_triangles=6000)
+    anchors = native.principal_anchors(tube, [7.0, 0.0, 10.0])
+    assert len(anchors) == 2
+    (x, y, z, *a), (_, _, _, *b) = anchors
+    assert math.hypot(x, y) == pytest.approx(5.0, abs=1e-6) and x > 4.5 and z == pytest.approx(10.0, abs=1.0)
+    a, b = np.array(a), np.array(b)
+    assert abs(a @ b) < 0.1
+    assert max(abs(a[2]), abs(b[2])) > 0.95       # one runs along the axis ...
+    assert min(abs(a[2]), abs(b[2])) < 0.1        # ... the other around it
+    with pytest.raises(ValueError, match="point"):
+        native.principal_anchors(tube, [1.0, 2.0])
+    with pytest.raises(ValueError, match="seeds_per_region"):
+        native.weave_assessment(DesignSession(tube, Design()).native, [], -1)

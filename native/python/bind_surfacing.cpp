@@ -85,6 +85,11 @@
 //   and even_map_gain: the harmonic map's largest per-vertex L2 stretch over
 //   the even map's. For tests.
 //
+// cubic_basis(n, t) -> (first, N, dN, d2N)
+//   the 4 nonzero cubic basis functions at t of the clamped uniform spline
+//   with n spans, their first and second derivatives in t, and the index of
+//   the first (surfacing/bspline.h). For tests.
+//
 // project_to_face(surface, face, points, near=0) -> (n, 3) array
 //   the points' foot points on B-rep face `face` of the surface's source
 //   (occt/brep_source.h's project_to_face, on a copy of the B-rep of its
@@ -97,6 +102,7 @@
 #include "stripweave/core/error.h"
 #include "stripweave/occt/brep_source.h"
 #include "stripweave/surface/surface.h"
+#include "stripweave/surfacing/bspline.h"
 #include "stripweave/surfacing/fit_patch_network.h"
 #include "stripweave/surfacing/patch_parameterization.h"
 #include "stripweave/surfacing/patch_shell.h"
@@ -319,6 +325,14 @@ FitOptions options_from(const py::kwargs& kw) {
 }  // namespace
 
 void bind_surfacing(py::module_& m) {
+  m.def("cubic_basis", [](int n, double t) {
+        if (n < 1) throw InputError("cubic_basis needs at least one span");
+        std::array<double, 4> N, dN, d2N;
+        const int first = cubic_basis(n, t, N.data(), dN.data(), d2N.data());
+        return py::make_tuple(first, N, dN, d2N);
+      },
+      py::arg("n"), py::arg("t"), "The cubic basis of the clamped uniform spline with n spans at t (for tests)");
+
   m.def("square_map", [](const py::dict& patch) {
         const NetworkPatch P = patch_mesh_from(patch);
         const PatchParameterization map = square_map(P);

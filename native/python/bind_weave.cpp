@@ -5,6 +5,7 @@
 // design_loops(design_state) -> [Loop]
 //   The design's loops, in strip order (for regions() and candidates).
 // weave_assessment(design_state, extra_loops=[], seeds_per_region=3) -> dict
+//   assess_design (layout/design_assessment.h) as a dict.
 //   The regions (paper §4.2) of the design's loops plus `extra_loops`, with
 //   the design's cross-field singularities (a candidate loop moves them a
 //   little; that is ignored), without the refined mesh. seeds_per_region=0
@@ -44,13 +45,10 @@
 #include "bind_regions.h"
 
 #include "stripweave/core/error.h"
-#include "stripweave/layout/weave_seeds.h"
+#include "stripweave/layout/design_assessment.h"
 #include "stripweave/strips/design_state.h"
-#include "stripweave/strips/path_segments.h"
 
 #include <pybind11/stl.h>
-
-#include <chrono>
 
 namespace py = pybind11;
 using namespace stripweave;
@@ -89,37 +87,19 @@ void bind_weave(py::module_& m) {
       py::arg("design_state"), "The design's loops in strip order");
 
   m.def("weave_assessment", [](DesignState& d, const std::vector<Loop>& extra, int seeds_per_region) {
-        if (seeds_per_region < 0) throw InputError("seeds_per_region must be 0 (no seeds) or more");
         const Surface& s = d.surface();
         const double scale = s.similarity.scale, scale2 = scale * scale;
-        LoopArrangement arrangement;
-        Regions regions;
-        std::vector<std::vector<SeedPoint>> seeds;
-        std::vector<std::vector<CrossingAnchor>> crossing, bridges;
-        UncoveredArea uncovered;
-        double ms = 0;
+        DesignAssessment assessment;
         {
           stripweave_python::NativeCall release;
-          const auto t0 = std::chrono::steady_clock::now();
-          std::vector<LoopPath> paths;
-          std::vector<const std::vector<std::uint8_t>*> covered;
-          for (const DesignStrip& ds : d.strips()) {
-            paths.push_back(ds.path);
-            covered.push_back(&ds.strip.covered);
-          }
-          for (const Loop& loop : extra) paths.push_back(loop_path(d.session(), loop));
-          arrangement = build_loop_arrangement(s, paths);
-          regions = compute_regions(s, arrangement, d.field().singularities);
-          // Scoring a candidate needs neither seeds nor coverage (seeds_per_region = 0).
-          seeds.resize(regions.regions.size());
-          if (seeds_per_region > 0) {
-            seeds = region_seed_points(arrangement, regions, seeds_per_region);
-            crossing = crossing_anchors(arrangement, regions);
-            bridges = bridge_anchors(arrangement, regions, seeds_per_region);
-            uncovered = largest_uncovered_area(s, covered);
-          }
-          ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+          assessment = assess_design(d, extra, seeds_per_region);
         }
+        const LoopArrangement& arrangement = assessment.arrangement;
+        const Regions& regions = assessment.regions;
+        const auto& seeds = assessment.seeds;
+        const auto& crossing = assessment.crossing;
+        const auto& bridges = assessment.bridges;
+        const UncoveredArea& uncovered = assessment.uncovered;
         py::list list;
         py::dict colours;
         for (const char* c : {"red", "orange", "yellow", "crease", "none"}) colours[c] = 0;
@@ -165,7 +145,7 @@ void bind_weave(py::module_& m) {
         out["arcs"] = arrangement.arcs.size();
         out["colours"] = colours;
         out["uncovered"] = u;
-        out["time_ms"] = ms;
+        out["time_ms"] = assessment.time_ms;
         return out;
       },
       py::arg("design_state"), py::arg("extra_loops") = std::vector<Loop>(), py::arg("seeds_per_region") = 3,
@@ -189,12 +169,8 @@ void bind_weave(py::module_& m) {
   m.def("principal_anchors", [](const Surface& s, const std::vector<double>& point) {
         if (point.size() < 3) throw InputError("principal_anchors needs a point (x, y, z)");
         const Vec3 p = s.similarity.to_normalized(Vec3(point[0], point[1], point[2]));
-        Index best = 0;
-        double best_d = std::numeric_limits<double>::infinity();
-        for (Index v = 0; v < s.mesh.num_vertices(); ++v) {
-          const double d = (s.mesh.positions[v] - p).squaredNorm();
-          if (d < best_d) best_d = d, best = v;
-        }
+        const Index best = nearest_surface_vertex(s, p);
+        if (best == kInvalid) throw InputError("principal_anchors: the surface has no vertices");
         const Vec3 q = s.similarity.to_model(s.mesh.positions[best]);
         std::vector<std::vector<double>> out;
         for (const auto* dirs : {&s.d_min, &s.d_max}) {

@@ -7,95 +7,51 @@ namespace stripweave {
 
 namespace {
 
-// Knot u_k of the clamped uniform cubic knot vector with n spans
-// (k = 0..n+6).
-inline double knot(int n, int k) { return std::clamp(double(k - kSplineDegree) / n, 0.0, 1.0); }
+// The cubic basis on one span of a clamped uniform knot vector, as
+// polynomials in the span's local x in [0, 1]. The four functions nonzero on
+// span j depend only on the knots u_{j+1} .. u_{j+6} (The NURBS Book, §2.2),
+// which in units of the span, relative to u_{j+3} = 0, are -2 .. 3 clamped to
+// [-L, R + 1] with L = min(j, 2) spans to the left end and R = min(n-1-j, 2)
+// to the right. So there are nine span shapes; kSpanShape[L][R][a][k] is the
+// coefficient of x^k of the a-th function, derived by Cox-de Boor in exact
+// rational arithmetic (the spans of a spline with n >= 5 spans away from its
+// ends are the uniform B-spline's, L = R = 2). The fit and the deviation
+// evaluate these millions of times, and most patches have few spans: the
+// table replaces the general recursion at the ends.
+constexpr double kSpanShape[3][3][4][4] = {
+    {{{1.0, -3.0, 3.0, -1.0}, {0.0, 3.0, -6.0, 3.0}, {0.0, 0.0, 3.0, -3.0}, {0.0, 0.0, 0.0, 1.0}},
+     {{1.0, -3.0, 3.0, -1.0}, {0.0, 3.0, -9.0 / 2, 7.0 / 4}, {0.0, 0.0, 3.0 / 2, -1.0}, {0.0, 0.0, 0.0, 1.0 / 4}},
+     {{1.0, -3.0, 3.0, -1.0}, {0.0, 3.0, -9.0 / 2, 7.0 / 4}, {0.0, 0.0, 3.0 / 2, -11.0 / 12}, {0.0, 0.0, 0.0, 1.0 / 6}}},
+    {{{1.0 / 4, -3.0 / 4, 3.0 / 4, -1.0 / 4}, {1.0 / 2, 0.0, -3.0 / 2, 1.0}, {1.0 / 4, 3.0 / 4, 3.0 / 4, -7.0 / 4},
+      {0.0, 0.0, 0.0, 1.0}},
+     {{1.0 / 4, -3.0 / 4, 3.0 / 4, -1.0 / 4}, {7.0 / 12, 1.0 / 4, -5.0 / 4, 7.0 / 12},
+      {1.0 / 6, 1.0 / 2, 1.0 / 2, -7.0 / 12}, {0.0, 0.0, 0.0, 1.0 / 4}},
+     {{1.0 / 4, -3.0 / 4, 3.0 / 4, -1.0 / 4}, {7.0 / 12, 1.0 / 4, -5.0 / 4, 7.0 / 12},
+      {1.0 / 6, 1.0 / 2, 1.0 / 2, -1.0 / 2}, {0.0, 0.0, 0.0, 1.0 / 6}}},
+    {{{1.0 / 6, -1.0 / 2, 1.0 / 2, -1.0 / 6}, {7.0 / 12, -1.0 / 4, -5.0 / 4, 11.0 / 12},
+      {1.0 / 4, 3.0 / 4, 3.0 / 4, -7.0 / 4}, {0.0, 0.0, 0.0, 1.0}},
+     {{1.0 / 6, -1.0 / 2, 1.0 / 2, -1.0 / 6}, {2.0 / 3, 0.0, -1.0, 1.0 / 2}, {1.0 / 6, 1.0 / 2, 1.0 / 2, -7.0 / 12},
+      {0.0, 0.0, 0.0, 1.0 / 4}},
+     {{1.0 / 6, -1.0 / 2, 1.0 / 2, -1.0 / 6}, {2.0 / 3, 0.0, -1.0, 1.0 / 2}, {1.0 / 6, 1.0 / 2, 1.0 / 2, -1.0 / 2},
+      {0.0, 0.0, 0.0, 1.0 / 6}}}};
 
 }  // namespace
 
 int cubic_basis(int n, double t, double N[4], double dN[4], double d2N[4]) {
-  constexpr int p = kSplineDegree;
+  n = std::max(n, 1);
   t = std::clamp(t, 0.0, 1.0);
-  // Away from the clamped ends (basis functions j .. j + 3 whose knots
-  // u_j .. u_{j+7} are all evenly spaced: 3 <= j <= n - 4) these are the
-  // uniform cubic B-spline's four polynomials in the span's local x: the
-  // same values as below at a fraction of the cost (the fit and the
-  // deviation evaluate them millions of times).
+  // Span j with u_j <= t < u_{j+1} (in span units); t = 1 belongs to the last span.
   const int j = std::min(n - 1, static_cast<int>(std::floor(t * n)));
-  if (j >= 3 && j + 4 <= n) {
-    const double x = t * n - j, x2 = x * x, x3 = x2 * x, y = 1 - x;
-    N[0] = y * y * y / 6;
-    N[1] = (3 * x3 - 6 * x2 + 4) / 6;
-    N[2] = (-3 * x3 + 3 * x2 + 3 * x + 1) / 6;
-    N[3] = x3 / 6;
-    if (dN) {
-      dN[0] = -0.5 * y * y * n;
-      dN[1] = (1.5 * x2 - 2 * x) * n;
-      dN[2] = (-1.5 * x2 + x + 0.5) * n;
-      dN[3] = 0.5 * x2 * n;
-    }
-    if (d2N) {
-      const double n2 = double(n) * n;
-      d2N[0] = y * n2;
-      d2N[1] = (3 * x - 2) * n2;
-      d2N[2] = (1 - 3 * x) * n2;
-      d2N[3] = x * n2;
-    }
-    return j;
+  const double x = t * n - j;
+  const auto& shape = kSpanShape[std::min(j, 2)][std::min(n - 1 - j, 2)];
+  for (int a = 0; a < 4; ++a) {
+    const double* c = shape[a];
+    N[a] = c[0] + x * (c[1] + x * (c[2] + x * c[3]));
+    // d/dt = n d/dx.
+    if (dN) dN[a] = n * (c[1] + x * (2 * c[2] + x * 3 * c[3]));
+    if (d2N) d2N[a] = double(n) * n * (2 * c[2] + 6 * c[3] * x);
   }
-  // Span s with u_{s} <= t < u_{s+1}, s in [p, n + p - 1]; t = 1 belongs to
-  // the last span.
-  const int span = std::min(n - 1, static_cast<int>(std::floor(t * n))) + p;
-  // The NURBS Book A2.3: ndu holds the basis functions of all degrees and
-  // the knot differences, from which derivatives follow.
-  double ndu[p + 1][p + 1], left[p + 1], right[p + 1];
-  ndu[0][0] = 1;
-  for (int j = 1; j <= p; ++j) {
-    left[j] = t - knot(n, span + 1 - j);
-    right[j] = knot(n, span + j) - t;
-    double saved = 0;
-    for (int r = 0; r < j; ++r) {
-      ndu[j][r] = right[r + 1] + left[j - r];
-      const double temp = ndu[r][j - 1] / ndu[j][r];
-      ndu[r][j] = saved + right[r + 1] * temp;
-      saved = left[j - r] * temp;
-    }
-    ndu[j][j] = saved;
-  }
-  for (int j = 0; j <= p; ++j) N[j] = ndu[j][p];
-  if (dN || d2N) {
-    double ders[3][p + 1] = {};
-    double a[2][p + 1];
-    for (int r = 0; r <= p; ++r) {
-      int s1 = 0, s2 = 1;
-      a[0][0] = 1;
-      for (int k = 1; k <= 2; ++k) {
-        double d = 0;
-        const int rk = r - k, pk = p - k;
-        if (r >= k) {
-          a[s2][0] = a[s1][0] / ndu[pk + 1][rk];
-          d = a[s2][0] * ndu[rk][pk];
-        }
-        const int j1 = rk >= -1 ? 1 : -rk;
-        const int j2 = (r - 1 <= pk) ? k - 1 : p - r;
-        for (int j = j1; j <= j2; ++j) {
-          a[s2][j] = (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][rk + j];
-          d += a[s2][j] * ndu[rk + j][pk];
-        }
-        if (r <= pk) {
-          a[s2][k] = -a[s1][k - 1] / ndu[pk + 1][r];
-          d += a[s2][k] * ndu[r][pk];
-        }
-        ders[k][r] = d;
-        std::swap(s1, s2);
-      }
-    }
-    for (int j = 0; j <= p; ++j) {
-      if (dN) dN[j] = ders[1][j] * p;
-      if (d2N) d2N[j] = ders[2][j] * p * (p - 1);
-    }
-  }
-  return span - p;
+  return j;
 }
 
 Vec3 BSplineCurve3::value(double t) const {

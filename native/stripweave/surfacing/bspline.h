@@ -12,7 +12,9 @@
 //
 //   cubic_basis(n, t, N, dN, d2N)  the 4 nonzero basis functions at t in
 //       [0, 1] (and their first/second derivatives), returning the index of
-//       the first of them (Cox-de Boor, The NURBS Book A2.2/A2.3)
+//       the first of them: per span a polynomial in the span's local
+//       parameter, one of nine span shapes derived by Cox-de Boor (The NURBS
+//       Book §2.2; bspline.cpp)
 //   BSplineCurve3    n spans, control points; value(t), derivative(t)
 //   BSplinePatch     nu x nv spans, control grid P(i, j), i along u
 //                    (0..nu+2), j along v (0..nv+2); value(u, v) and first
