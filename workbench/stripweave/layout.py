@@ -31,7 +31,7 @@ compute_layout returns, in model units:
     defect_locations  [{"kind", "position" (model units), "patch" | "vertex" | "edges" (the
                  touching pair) | "triangles" (of an uncovered piece), "text"}]
     timings_ms {"regions", "layout"}
-Vertices carry "defects" (valence2, high_valence) and edges "defects" (overlapping_edges);
+Vertices carry "defects" (valence2: valence 2 or 1, high_valence) and edges "defects" (overlapping_edges);
 patches' kinds are non_quad, overlapping_edges (a side overlaps), creased, degenerate.
 """
 import json
@@ -49,7 +49,7 @@ DEFECT_WORDS = {
     "non_quad_patches": ("non_quad", "patch without 4 corners", "patches without 4 corners"),
     "overlapping_edges": ("overlapping_edges", "edge overlapping or touching another",
                           "edges overlapping or touching others"),
-    "valence2_vertices": ("valence2", "vertex of valence 2", "vertices of valence 2"),
+    "valence2_vertices": ("valence2", "vertex of valence 2 or 1", "vertices of valence 2 or 1"),
     "high_valence_vertices": ("high_valence", "vertex of valence above 6 that no part corner forces",
                               "vertices of valence above 6 that no part corner forces"),
     "creased_patches": ("creased", "patch over a crease", "patches over a crease"),

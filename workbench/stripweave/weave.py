@@ -213,8 +213,10 @@ def flaws(a):
     beyond the first in orange regions (extra_extrema), half the valence mismatch of yellow
     regions, and each region whose vertex will have valence 2 or 6 and more where the
     curvature does not ask for it (|valence - ideal| > 1/2): a valence-2 vertex is two 180
-    degree corners on a flat part, a valence-6 one six 60 degree corners."""
-    extreme = sum(1 for r in a["regions"] if r["disc"] and (r["valence"] == 2 or r["valence"] >= 6)
+    degree corners on a flat part, a valence-6 one six 60 degree corners, and a valence-1
+    one (a lobe one arc bounds: a loop that curls across itself) the tip of a dangling edge,
+    around which the patch at the crossing folds."""
+    extreme = sum(1 for r in a["regions"] if r["disc"] and (1 <= r["valence"] <= 2 or r["valence"] >= 6)
                   and abs(r["valence"] - r["ideal_valence"]) > 0.5)
     return colour_flaws(a) + extreme
 

@@ -87,10 +87,18 @@ struct Checker {
   // then one corner). Corners may coincide where a side is a closed edge of
   // positive length, as on a torus's one-patch layout (paper §2: a quad
   // layout of one patch), whose fit is an ordinary four-sided patch.
+  // A side may not come straight back along the side before it (the same
+  // edge, run the other way): the patch then folds around a slit, whose tip
+  // is a corner of 360 degrees at a vertex of valence 1 (a loop that curls
+  // across itself bounds a lobe of one arc; the patch at the crossing wraps
+  // around the lobe's dangling edge). A torus's one patch runs each closed
+  // edge twice too, but never one right after the other.
   bool four_corners(const PrimalPatch& patch, double min_side) const {
     for (int k = 0; k < 4; ++k) {
       if (patch.corners[k] == kInvalid || patch.edges[k] == kInvalid) return false;
       if (L.edges[patch.edges[k]].length < min_side) return false;
+      const int next = (k + 1) % 4;
+      if (patch.edges[next] == patch.edges[k] && patch.reversed[next] != patch.reversed[k]) return false;
     }
     return true;
   }
@@ -176,7 +184,7 @@ struct Checker {
       const int forced = out.vertex_forced_valence[v];
       DefectKind kind;
       Index* count;
-      if (pv.valence == 2 && forced < 2) {
+      if (pv.valence >= 1 && pv.valence <= 2 && forced < 2) {  // 1: the tip of a dangling edge
         kind = DefectKind::Valence2, count = &out.valence2_vertices;
       } else if (pv.valence > std::max(kMaxFreeValence, forced)) {
         kind = DefectKind::HighValence, count = &out.high_valence_vertices;

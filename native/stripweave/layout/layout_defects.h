@@ -11,7 +11,10 @@
 //     non_quad      a patch whose boundary does not read as four sides
 //                   (PrimalPatch::quad false), or one of whose four sides
 //                   collapses to a point (shorter than one mean solver edge:
-//                   two of its corners are then one). Corners may coincide
+//                   two of its corners are then one), or one of whose sides
+//                   comes straight back along the side before it (the same
+//                   edge run the other way: a slit whose tip is a vertex of
+//                   valence 1). Corners may coincide
 //                   where sides are closed edges of positive length: a
 //                   torus's one-patch layout is a quad layout (paper §2).
 //     overlapping_edges  two primal edge paths meet at a refined vertex that
@@ -20,9 +23,12 @@
 //                   path visits a refined vertex twice. Counted as EDGES
 //                   involved; one location per touching pair (at the first
 //                   refined vertex where they meet).
-//     valence2      a primal vertex with two edges: a patch corner of about
-//                   180 degrees, unless the part forces it (below; the
-//                   corner of a sheet).
+//     valence2      a primal vertex with two edges or one: a patch corner
+//                   of about 180 degrees (two), or the tip of a dangling
+//                   edge, a corner of 360 degrees (one), unless the part
+//                   forces it (below; the corner of a sheet). A vertex no
+//                   edge reaches is no patch's corner: the surface around it
+//                   lies in no patch, which `uncovered` counts.
 //     high_valence  a primal vertex with more than 6 edges where the part
 //                   does not force as many. The geometric rule: every crease
 //                   and every boundary curve leaving a corner of the part
@@ -33,8 +39,8 @@
 //                   at least n edges, n the crease and boundary edges of the
 //                   surface there (creases_of, creases.h). The vertex is
 //                   flagged when valence > max(6, n); a vertex elsewhere
-//                   when valence > 6. The same n exempts a valence-2 vertex
-//                   when n >= 2.
+//                   when valence > 6. The same n exempts a vertex of valence
+//                   2 or less when n >= 2.
 //     creased       PrimalPatch::creased(): a crease runs inside the patch.
 //     degenerate    a patch whose area is under kDegenerateArea (1e-4) of
 //                   the surface's area, or whose inscribed radius is under
