@@ -422,6 +422,35 @@ def test_three_curves_almost_concurrent_inside_a_triangle(sheet, offset, regions
     assert all(g["disc"] for g in r["regions"])
 
 
+def test_an_arc_of_one_edge_between_two_crossings_gets_an_inner_vertex_and_its_primal_edge(sheet):
+    """Three curves nearly concurrent inside one triangle (1e-5 apart) bound a tiny triangular
+    region whose three arcs would each be one refined edge from crossing to crossing. A primal
+    edge crosses its arc at an inner vertex, so such an arc's edge was lost: the region's vertex
+    had two edges, not three, and two patches lost a side. Each such arc is split at its
+    midpoint: every arc between two regions has an inner vertex, the arrangement still adds up,
+    and every region's vertex has as many primal edges as the region has arcs."""
+    c = np.array([5.3, 5.45])
+    paths = []
+    for k, angle in enumerate([0.3, 1.4, 2.5]):
+        normal = np.array([-math.sin(angle), math.cos(angle)])
+        paths.append(trace(sheet, clipped_line(c + k * 1e-5 * normal, angle)))
+    r = sheet_regions(sheet, paths)
+    assert len(r["regions"]) == 7 and r["crossings"] == 3
+    inner = [a for a in r["arc_list"] if a["left"] >= 0 and a["right"] >= 0]
+    assert inner and all(len(a["vertices"]) >= 3 for a in inner)
+    L = native.layout_of_paths(sheet, paths)
+    assert not [p for p in L["problems"] if "no corridor path" in p]
+    arcs = arcs_per_region(r)
+    ends = [0] * len(L["vertices"])
+    for e in L["edges"]:
+        for v in e["vertices"]:
+            ends[v] += 1
+    tiny = min(range(len(r["regions"])), key=lambda g: r["regions"][g]["area"])
+    assert r["regions"][tiny]["area"] < 1e-8 and arcs[tiny] == 3
+    for v, vertex in enumerate(L["vertices"]):
+        assert ends[v] == arcs[vertex["region"]]
+
+
 def test_self_crossing_loop(sheet):
     """A figure eight crossing itself inside a triangle: two lobes and the annulus around them."""
     r = sheet_regions(sheet, [trace(sheet, [(2, 2.3), (8, 8.3), (8, 2.6), (2, 8.6)], closed=True)])

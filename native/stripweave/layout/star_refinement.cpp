@@ -2,6 +2,7 @@
 // vertices, then carry every per-edge array over to the new edge numbering.
 #include "stripweave/layout/star_refinement.h"
 
+#include "stripweave/layout/cut_triangle.h"
 #include "stripweave/layout/cut_wedges.h"
 
 namespace stripweave {
@@ -23,27 +24,6 @@ Index surface_edge_under(const Surface& s, const LoopArrangement& A, Index a, In
   }
   const Index oa = A.original_vertex[a], ob = A.original_vertex[b];
   return oa == kInvalid || ob == kInvalid ? kInvalid : s.topology.find_edge(oa, ob);
-}
-
-// The pieces of triangle f = (v0, v1, v2) whose sides i (from v_i to
-// v_{i+1}) carry the new vertices mid[i] (kInvalid where not split), counter-
-// clockwise like f. One split side: two pieces; two: the corner between them
-// cut off, then the rest in two; three: the four of a midpoint subdivision.
-std::vector<Tri> cut_triangle(const Tri& f, const std::array<Index, 3>& mid) {
-  const int splits = (mid[0] != kInvalid) + (mid[1] != kInvalid) + (mid[2] != kInvalid);
-  if (splits == 3)
-    return {Tri{f[0], mid[0], mid[2]}, Tri{mid[0], f[1], mid[1]}, Tri{mid[2], mid[1], f[2]},
-            Tri{mid[0], mid[1], mid[2]}};
-  if (splits == 1) {
-    const int i = mid[0] != kInvalid ? 0 : mid[1] != kInvalid ? 1 : 2;
-    const Index a = f[i], b = f[(i + 1) % 3], c = f[(i + 2) % 3];
-    return {Tri{a, mid[i], c}, Tri{mid[i], b, c}};
-  }
-  // Two: sides i and i + 1 split, meeting at corner b = f[i + 1].
-  const int i = mid[0] == kInvalid ? 1 : mid[1] == kInvalid ? 2 : 0;
-  const Index a = f[i], b = f[(i + 1) % 3], c = f[(i + 2) % 3];
-  const Index p = mid[i], q = mid[(i + 1) % 3];
-  return {Tri{p, b, q}, Tri{a, p, q}, Tri{a, q, c}};
 }
 
 // The triangle on edge e that holds the directed edge a -> b (kInvalid if none).
@@ -119,20 +99,11 @@ Index refine_stars(const Surface& s, LoopArrangement& A, Regions& G, const std::
   if (split == 0) return 0;
 
   // Cut every triangle with a split side; the first piece keeps its index.
-  const Index nt = m.num_triangles();
-  for (Index t = 0; t < nt; ++t) {
-    const std::array<Index, 3> at{mid[old.triangle_edges[t][0]], mid[old.triangle_edges[t][1]],
-                                  mid[old.triangle_edges[t][2]]};
-    if (at[0] == kInvalid && at[1] == kInvalid && at[2] == kInvalid) continue;
-    const std::vector<Tri> pieces = cut_triangle(m.triangles[t], at);
-    m.triangles[t] = pieces[0];
-    for (size_t p = 1; p < pieces.size(); ++p) {
-      m.triangles.push_back(pieces[p]);
-      A.parent_triangle.push_back(A.parent_triangle[t]);
-      const Index r = G.triangle_region[t];
-      G.triangle_region.push_back(r);
-      if (r != kInvalid) ++G.regions[r].triangles;
-    }
+  for (const Index t : cut_triangles(m, old, mid)) {
+    A.parent_triangle.push_back(A.parent_triangle[t]);
+    const Index r = G.triangle_region[t];
+    G.triangle_region.push_back(r);
+    if (r != kInvalid) ++G.regions[r].triangles;
   }
 
   A.topology = MeshTopology::build(m);
