@@ -5,7 +5,7 @@ executed by FreeCAD's GUI (normally started by tests/gui/test_import_gui.py):
     xvfb-run -a -s "-screen 0 1280x800x24" freecad tests/gui/run_import_gui.py
 
 Environment: that of gui_harness.py, plus STRIPWEAVE_GUI_DESIGN (the woven
-design.json), STRIPWEAVE_GUI_MODEL (the STEP it was woven on),
+design.json), STRIPWEAVE_GUI_MODEL (the model file it was woven on),
 STRIPWEAVE_GUI_TRIANGLES (the solver mesh size it was woven at).
 
 A filleted box: Prepare surface, a design with one hand-made strip (default
