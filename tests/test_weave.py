@@ -1321,6 +1321,9 @@ def test_principal_anchors_sit_at_the_nearest_vertex_along_the_cylinder_s_princi
     anchors = native.principal_anchors(tube, [7.0, 0.0, 10.0])
     assert len(anchors) == 2
     (x, y, z, *a), (_, _, _, *b) = anchors
+    V = np.asarray(tube.vertices)
+    nearest = V[np.argmin(np.linalg.norm(V - [7.0, 0.0, 10.0], axis=1))]
+    assert np.allclose((x, y, z), nearest, atol=1e-9)
     assert math.hypot(x, y) == pytest.approx(5.0, abs=1e-6) and x > 4.5 and z == pytest.approx(10.0, abs=1.0)
     a, b = np.array(a), np.array(b)
     assert abs(a @ b) < 0.1

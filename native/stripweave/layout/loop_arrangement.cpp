@@ -2,12 +2,12 @@
 #include "stripweave/layout/loop_arrangement.h"
 
 #include "stripweave/core/error.h"
-#include "stripweave/core/sort_unique.h"
 #include "stripweave/core/union_find.h"
 #include "stripweave/layout/chord_split.h"
 #include "stripweave/layout/cut_triangle.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -445,60 +445,10 @@ void cut_arcs(const std::vector<Index>& node_of, LoopArrangement& out) {
   }
 }
 
-// (5) Arcs that are one refined edge between two nodes: three loops nearly
-// concurrent inside one triangle cut such a sliver of an arc out of the
-// chord in the middle. The primal edge dual to an arc crosses it at an inner
-// vertex (primal_edges.cpp), and such an arc has none: its edge was lost,
-// the triangular region's vertex kept two of its three edges (valence 2) and
-// the patches at the arc's two crossings lost a side each. Every chord piece
-// that is such an arc, with a region on both sides, is split at its midpoint
-// (each triangle on it cut in two); the chains, the graph and the arcs are
-// then made again, so the arc has the midpoint inside. Returns the splits.
-Index split_bare_arcs(const SkeletonPoints& sk, const std::vector<std::pair<Index, Index>>& steps_at,
-                      std::vector<Step>& steps, LoopArrangement& out) {
-  auto key = [](Index a, Index b) { return std::make_pair(std::min(a, b), std::max(a, b)); };
-  std::vector<std::pair<Index, Index>> bare;  // the ends of each bare arc's edge
-  for (const LoopArc& arc : out.arcs)
-    if (!arc.closed && arc.edges.size() == 1 && arc.left_triangle != kInvalid && arc.right_triangle != kInvalid)
-      bare.push_back(key(arc.vertices[0], arc.vertices[1]));
-  sort_unique(bare);
-  // Only chord pieces: a run along a surface edge takes its refined pieces
-  // from that edge's snapped points (chains_and_labels), which a midpoint is not.
-  std::vector<std::pair<std::pair<Index, Index>, Index>> mid;  // (ends, new vertex)
-  for (const Step& st : steps) {
-    if (st.triangle == kInvalid) continue;
-    for (size_t i = 0; i + 1 < st.chain.size(); ++i) {
-      const auto k = key(st.chain[i], st.chain[i + 1]);
-      if (std::binary_search(bare.begin(), bare.end(), k)) mid.push_back({k, kInvalid});
-    }
-  }
-  if (mid.empty()) return 0;
-  std::sort(mid.begin(), mid.end());
-  mid.erase(std::unique(mid.begin(), mid.end(), [](const auto& x, const auto& y) { return x.first == y.first; }),
-            mid.end());
-  TriangleMesh& m = out.mesh;
-  const MeshTopology& old = out.topology;
-  std::vector<Index> mid_of(old.num_edges(), kInvalid);  // per refined edge, its midpoint
-  for (auto& [ends, v] : mid) {
-    v = m.num_vertices();
-    m.positions.push_back(0.5 * (m.positions[ends.first] + m.positions[ends.second]));
-    out.original_vertex.push_back(kInvalid);
-    out.original_edge.push_back(kInvalid);  // a chord lies inside its surface triangle
-    mid_of[old.find_edge(ends.first, ends.second)] = v;
-  }
-  // The sides of a sliver region can all be bare arcs: a triangle may be cut on several sides.
-  for (const Index t : cut_triangles(m, old, mid_of)) out.parent_triangle.push_back(out.parent_triangle[t]);
-  for (Step& st : steps) {
-    if (st.triangle == kInvalid) continue;
-    std::vector<Index> chain{st.chain.empty() ? kInvalid : st.chain[0]};
-    for (size_t i = 0; i + 1 < st.chain.size(); ++i) {
-      const auto it = std::lower_bound(mid.begin(), mid.end(), std::make_pair(key(st.chain[i], st.chain[i + 1]), Index(-1)));
-      if (it != mid.end() && it->first == key(st.chain[i], st.chain[i + 1])) chain.push_back(it->second);
-      chain.push_back(st.chain[i + 1]);
-    }
-    if (!st.chain.empty()) st.chain = std::move(chain);
-  }
-  out.topology = MeshTopology::build(m);
+// (4) Chains and labels, the graph and the arcs of the refined mesh, made
+// afresh (after (5) they are made again on the split mesh).
+void link_loops(const SkeletonPoints& sk, const std::vector<std::pair<Index, Index>>& steps_at,
+                std::vector<Step>& steps, LoopArrangement& out) {
   for (LoopChain& c : out.chains) c.vertices.clear(), c.edges.clear();
   out.labels.clear();
   out.edge_labels = Csr();
@@ -507,7 +457,61 @@ Index split_bare_arcs(const SkeletonPoints& sk, const std::vector<std::pair<Inde
   out.crossings = 0;
   chains_and_labels(sk, steps_at, steps, out);
   cut_arcs(arrangement_graph(out), out);
-  return static_cast<Index>(mid.size());
+}
+
+// (5) Arcs that are one refined edge between two nodes: three loops nearly
+// concurrent inside one triangle cut such a sliver of an arc out of the
+// chord in the middle. The primal edge dual to an arc crosses it at an inner
+// vertex (primal_edges.cpp), and such an arc has none: its edge was lost,
+// the triangular region's vertex kept two of its three edges (valence 2) and
+// the patches at the arc's two crossings lost a side each. Every chord piece
+// that is such an arc, with a region on both sides, is split at its midpoint
+// (each triangle on it cut in two) and the chord steps through it take the
+// midpoint; the topology is rebuilt, and the caller links the loops again
+// (link_loops), so the arc has the midpoint inside. Returns whether any was.
+bool split_bare_arcs(std::vector<Step>& steps, LoopArrangement& out) {
+  const MeshTopology& old = out.topology;
+  std::vector<std::uint8_t> bare(old.num_edges(), 0);
+  bool any = false;  // almost never: then the steps are not walked (every assessment builds an arrangement)
+  for (const LoopArc& arc : out.arcs)
+    if (!arc.closed && arc.edges.size() == 1 && arc.left_triangle != kInvalid && arc.right_triangle != kInvalid)
+      bare[arc.edges[0]] = 1, any = true;
+  if (!any) return false;
+  // Only chord pieces: a run along a surface edge takes its refined pieces
+  // from that edge's snapped points (chains_and_labels), which a midpoint is not.
+  std::vector<Index> split;
+  for (const Step& st : steps)
+    if (st.triangle != kInvalid)
+      for (size_t i = 0; i + 1 < st.chain.size(); ++i) {
+        const Index e = old.find_edge(st.chain[i], st.chain[i + 1]);
+        if (bare[e]) split.push_back(e);
+      }
+  if (split.empty()) return false;
+  // Midpoints numbered in the order of their edges' ends (deterministic).
+  std::sort(split.begin(), split.end(), [&](Index x, Index y) { return old.edges[x] < old.edges[y]; });
+  split.erase(std::unique(split.begin(), split.end()), split.end());
+  TriangleMesh& m = out.mesh;
+  std::vector<Index> mid_of(old.num_edges(), kInvalid);  // per refined edge, its midpoint
+  for (const Index e : split) {
+    mid_of[e] = m.num_vertices();
+    m.positions.push_back(0.5 * (m.positions[old.edges[e][0]] + m.positions[old.edges[e][1]]));
+    out.original_vertex.push_back(kInvalid);
+    out.original_edge.push_back(kInvalid);  // a chord lies inside its surface triangle
+  }
+  for (Step& st : steps) {
+    if (st.triangle == kInvalid || st.chain.empty()) continue;
+    std::vector<Index> chain{st.chain[0]};
+    for (size_t i = 0; i + 1 < st.chain.size(); ++i) {
+      const Index mid = mid_of[old.find_edge(st.chain[i], st.chain[i + 1])];
+      if (mid != kInvalid) chain.push_back(mid);
+      chain.push_back(st.chain[i + 1]);
+    }
+    st.chain = std::move(chain);
+  }
+  // The sides of a sliver region can all be bare arcs: a triangle may be cut on several sides.
+  for (const Index t : cut_triangles(m, old, mid_of)) out.parent_triangle.push_back(out.parent_triangle[t]);
+  out.topology = MeshTopology::build(m);
+  return true;
 }
 
 }  // namespace
@@ -519,9 +523,8 @@ LoopArrangement build_loop_arrangement(const Surface& s, const std::vector<LoopP
   std::vector<std::pair<Index, Index>> steps_at;
   std::vector<Step> steps = loop_steps(sk, loops, skeleton, steps_at, out);  // (2)
   refine_mesh(sk, chords_per_triangle(steps, s.mesh.num_triangles()), steps, out);  // (3)
-  chains_and_labels(sk, steps_at, steps, out);  // (4)
-  cut_arcs(arrangement_graph(out), out);
-  split_bare_arcs(sk, steps_at, steps, out);  // (5)
+  link_loops(sk, steps_at, steps, out);  // (4)
+  if (split_bare_arcs(steps, out)) link_loops(sk, steps_at, steps, out);  // (5)
   return out;
 }
 

@@ -39,6 +39,10 @@
 //           curves (on the boundary), and where loops touch the boundary. A
 //           loop's arcs are its pieces between consecutive nodes; a loop
 //           meeting nothing is one closed arc.
+//           (5) Bare arcs. An arc that is a single chord piece from node to
+//           node (three loops nearly concurrent in one triangle) has no
+//           inner vertex for its primal edge to cross it at: its piece is
+//           split at its midpoint and (4) is made again.
 //   Output (normalized units): see LoopArrangement. Cost: linear in the
 //           surface plus the loops' length; a few ms at 30K triangles.
 #pragma once
