@@ -109,6 +109,29 @@ def test_corner_deviation_p95_is_the_layouts_percentile(batch):
     d = entry["report"]["corner_deviation_deg"]
     assert d["p95"] == pytest.approx(np.percentile(deviations, 95), abs=1e-9)
     assert d["mean"] - 1e-9 <= d["max"] and d["p95"] <= d["max"] + 1e-9
+    # The figures say what they leave out: the patches that are no quad.
+    quads = [p for p in layout["patches"] if p["quad"]]
+    assert d["quads"] == len(quads) and d["patches"] == len(layout["patches"])
+    all_corners = deviations + [90.0] * (4 * (len(layout["patches"]) - len(quads)))
+    assert d["mean_all_patches"] == pytest.approx(np.mean(all_corners), abs=1e-9)
+
+
+def test_patches_that_are_no_quad_do_not_flatter_the_corner_figures():
+    """Two quads with perfect corners and two broken patches: the quads' mean is 0, but the
+    report says 2 of 4 patches are quads, and the mean over all patches (each broken one as
+    four corners 90 degrees off) is 45; the batch row shows both."""
+    from stripweave.batch_report import COLUMNS, cells
+    from stripweave.job import _corner_coverage
+    square = {"quad": True, "corner_angles_deg": [90.0] * 4}
+    broken = {"quad": False, "corner_angles_deg": []}
+    cover = _corner_coverage({"patches": [square, square, broken, broken]})
+    assert cover == {"quads": 2, "patches": 4, "mean_all_patches": pytest.approx(45.0)}
+    assert _corner_coverage({"patches": []}) == {"quads": 0, "patches": 0, "mean_all_patches": 0.0}
+    entry = {"model": "m.step", "status": "ok", "error": None, "time_s": 1.0, "peak_memory_mb": 100.0,
+             "report": {"valid": True, "strips": 2, "patches": 4, "irregular_vertices": {},
+                        "corner_deviation_deg": {"mean": 0.0, "max": 0.0, "p95": 0.0, **cover}}}
+    row = dict(zip(COLUMNS, cells(entry)))
+    assert row["corner dev. mean / p95 deg"] == "0.0 / 0.0 (2 no quad: all 45.0)"
 
 
 def test_summary_md_has_a_row_per_model_and_totals(batch):

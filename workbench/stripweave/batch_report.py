@@ -66,8 +66,15 @@ def _irregular(report):
 
 
 def _corner_deviation(report):
+    """mean / p95 over the quad patches' corners, and where some patches are no quad, how many
+    are (the figures leave those out) and the mean with each counted as four corners 90
+    degrees off (job._corner_coverage)."""
     d = report.get("corner_deviation_deg") or {}
-    return f"{_number(d.get('mean'), '.1f')} / {_number(d.get('p95'), '.1f')}"
+    text = f"{_number(d.get('mean'), '.1f')} / {_number(d.get('p95'), '.1f')}"
+    quads, patches = d.get("quads"), d.get("patches")
+    if isinstance(quads, int) and isinstance(patches, int) and quads < patches:
+        text += f" ({patches - quads} no quad: all {_number(d.get('mean_all_patches'), '.1f')})"
+    return text
 
 
 def _fit(report):

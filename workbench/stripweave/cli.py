@@ -210,8 +210,10 @@ def cmd_weave(args):
           f"{result['patches']} patches; regions red {c['red']}, crease {c.get('crease', 0)}, orange {c['orange']}, "
           f"yellow {c['yellow']}, "
           f"fine {c['none']}")
-    print(f"irregular vertices: {irregular}; corner deviation mean "
-          f"{result['corner_deviation_deg']['mean']:.1f} deg, max {result['corner_deviation_deg']['max']:.1f} deg")
+    d = result["corner_deviation_deg"]
+    print(f"irregular vertices: {irregular}; corner deviation mean {d['mean']:.1f} deg, max {d['max']:.1f} deg"
+          + (f" (over the {d['quads']} quads of {d['patches']} patches; {d['mean_all_patches']:.1f} deg with each"
+             " patch that is no quad as four corners 90 deg off)" if d.get("quads", 0) < d.get("patches", 0) else ""))
     if "defects" in result:
         from .layout import format_defects
         print(format_defects(result["clean"], result["defects"], result["defect_locations"], result=result))

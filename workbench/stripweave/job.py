@@ -100,7 +100,7 @@ def make_report(ds, layout, timings_ms):
             "strips": len(ds.design.strips), "patches": len(layout["patches"]),
             "regions": colours, "irregular_vertices": irregular,
             "corner_deviation_deg": {"mean": float(deviation["mean"]), "max": float(deviation["max"]),
-                                     "p95": _corner_deviation_p95(layout)},
+                                     "p95": _corner_deviation_p95(layout), **_corner_coverage(layout)},
             "input_triangles": int(ds.surface.input_triangles), "solver_triangles": len(ds.surface.triangles),
             "bbox_diagonal": float(ds.design.model.get("bbox_diagonal") or ds.surface.report()["bbox_diagonal"]),
             "timings_ms": {k: round(float(v), 1) for k, v in timings_ms.items()}}
@@ -125,6 +125,19 @@ def symmetry_report(ds, layout, symmetries):
         entry["layout_max_error"] = layout_symmetry_error(layout, sym)
         out.append(entry)
     return out
+
+
+def _corner_coverage(layout):
+    """What the corner figures leave out, so that they cannot flatter: mean, max and p95 are
+    over the quad patches' corners only (a patch that is no quad has no quad corners), so
+    "quads" says over how many of the "patches" they are, and "mean_all_patches" counts each
+    patch that is no quad as four corners 90 degrees off (a layout of few good quads among
+    many broken patches otherwise reads as a good one). README: report.json's added keys."""
+    patches = layout["patches"]
+    quads = [p for p in patches if p.get("quad", True) and p.get("corner_angles_deg")]
+    total = sum(abs(a - 90.0) for p in quads for a in p["corner_angles_deg"]) + 4 * 90.0 * (len(patches) - len(quads))
+    corners = sum(len(p["corner_angles_deg"]) for p in quads) + 4 * (len(patches) - len(quads))
+    return {"quads": len(quads), "patches": len(patches), "mean_all_patches": total / corners if corners else 0.0}
 
 
 def _corner_deviation_p95(layout):

@@ -177,8 +177,11 @@ def format_summary(result):
     e = s["euler"]
     lines.append(f"layout: {s['patches']} patches, {e['V']} vertices, {e['E']} edges; "
                  f"irregular vertices: {irregular}")
+    quads = sum(1 for p in result["patches"] if p.get("quad", True))
     lines.append(f"corner angles: deviate from 90 deg by {s['corner_deviation_deg']['mean']:.1f} deg on average, "
-                 f"{s['corner_deviation_deg']['max']:.1f} at most")
+                 f"{s['corner_deviation_deg']['max']:.1f} at most"
+                 + (f", over the {quads} quads of {s['patches']} patches (the others have no quad corners)"
+                    if quads < s["patches"] else ""))
     lines.append(f"Euler check: V - E + F = {e['V'] - e['E'] + e['F']} (surface: {e['chi']})")
     lines.append(format_defects(result["clean"], result["defects"], result["defect_locations"], result=result))
     for p in result["problems"]:
