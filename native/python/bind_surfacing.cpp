@@ -97,6 +97,10 @@
 //   global search where that does not settle); near > 0 in order, each
 //   from the previous answer (the refit's warm start); near < 0 each by
 //   OCCT's global search alone (the reference). For tests.
+// project_to_faces(surface, faces, points, near=0) -> ((n, 3) array, held)
+//   the same with point i projected onto face faces[i], all on one copy, and
+//   how many of the copy's analysers hold a global-search grid at the end
+//   (bounded: occt/brep_source_impl.h). For tests.
 #include "bind.h"
 
 #include "stripweave/core/error.h"
@@ -352,6 +356,20 @@ void bind_surfacing(py::module_& m) {
           out.push_back(brep->project_to_face(face, Vec3(x(i, 0), x(i, 1), x(i, 2)), nullptr, near));
         return points_array(std::move(out));
       }, py::arg("surface"), py::arg("face"), py::arg("points"), py::arg("near") = 0.0);
+  m.def("project_to_faces", [](const Surface& surface, const std::vector<Index>& faces,
+                               const py::array_t<double>& points, double near) {
+        if (!surface.brep) throw InputError("project_to_faces: the surface has no B-rep source");
+        const auto x = points.unchecked<2>();
+        if (x.shape(1) != 3 || static_cast<size_t>(x.shape(0)) != faces.size())
+          throw InputError("project_to_faces: points must be (n, 3), one per face");
+        for (Index f : faces)
+          if (f < 0 || f >= surface.brep->num_faces()) throw InputError("project_to_faces: no such face");
+        const auto brep = surface.brep->thread_copy();
+        std::vector<Vec3> out;
+        for (py::ssize_t i = 0; i < x.shape(0); ++i)
+          out.push_back(brep->project_to_face(faces[i], Vec3(x(i, 0), x(i, 1), x(i, 2)), nullptr, near));
+        return py::make_tuple(points_array(std::move(out)), brep->held_search_grids());
+      }, py::arg("surface"), py::arg("faces"), py::arg("points"), py::arg("near") = 0.0);
   m.def("refit", [](const Surface& surface, const py::dict& network, std::optional<double> tolerance,
                     std::optional<std::string> step_path, bool return_brep, bool return_patches,
                     bool return_network, const py::kwargs& kw) {

@@ -141,9 +141,39 @@ std::shared_ptr<BrepSource> BrepSource::thread_copy() const {
   return std::shared_ptr<BrepSource>(new BrepSource(std::move(impl)));
 }
 
+ShapeAnalysis_Surface& BrepSource::Impl::analyser(Index f) const {
+  if (!analysers[f]) analysers[f] = std::make_unique<ShapeAnalysis_Surface>(BRep_Tool::Surface(face(f)));
+  return *analysers[f];
+}
+
+gp_Pnt2d BrepSource::Impl::global_uv(Index f, const gp_Pnt& p) const {
+  ShapeAnalysis_Surface& a = analyser(f);
+  switch (a.Adaptor3d()->GetType()) {
+    case GeomAbs_Plane: case GeomAbs_Cylinder: case GeomAbs_Cone: case GeomAbs_Sphere: case GeomAbs_Torus:
+      return a.ValueOfUV(p, 1e-9);  // in closed form: no grid
+    default:
+      break;
+  }
+  if (searched_at[f] == 0 && held_grids >= kSearchGrids) {
+    Index oldest = kInvalid;
+    for (Index g = 0; g < static_cast<Index>(searched_at.size()); ++g)
+      if (searched_at[g] != 0 && (oldest == kInvalid || searched_at[g] < searched_at[oldest])) oldest = g;
+    analysers[oldest].reset();
+    searched_at[oldest] = 0;
+    --held_grids;
+  }
+  if (searched_at[f] == 0) ++held_grids;
+  searched_at[f] = ++search_clock;
+  return a.ValueOfUV(p, 1e-9);
+}
+
+Index BrepSource::held_search_grids() const { return impl_->held_grids; }
+
 void BrepSource::release_caches() const {
   Impl& s = *impl_;
   for (auto& a : s.analysers) a.reset();
+  std::fill(s.searched_at.begin(), s.searched_at.end(), 0);
+  s.held_grids = 0;
   for (auto& c : s.classifiers) c.reset();
   for (auto& a : s.adaptors) a.reset();
   for (auto& c : s.edge_curves) c.reset();
@@ -345,11 +375,9 @@ std::vector<bool> BrepSource::sharp_edges(double angle_deg) const {
 SurfacePoint BrepSource::evaluate(Index face, const Vec3& p) const {
   const Impl& s = *impl_;
   const TopoDS_Face& f = s.face(face);
-  auto& analyser = s.analysers[face];
-  if (!analyser) analyser = std::make_unique<ShapeAnalysis_Surface>(BRep_Tool::Surface(f));
   SurfacePoint result;
   try {
-    const gp_Pnt2d uv = analyser->ValueOfUV(to_pnt(p), 1e-9);
+    const gp_Pnt2d uv = s.global_uv(face, to_pnt(p));
     BRepAdaptor_Surface surface(f, /*restriction=*/false);
     BRepLProp_SLProps props(surface, uv.X(), uv.Y(), 2, 1e-9);
     result.position = to_vec(props.Value());
@@ -625,8 +653,7 @@ bool nearest_start(const BrepSource::Impl& s, Index face, ShapeAnalysis_Surface&
 
 Vec3 BrepSource::project_to_face(Index face, const Vec3& p, double* distance, double near, bool* inside) const {
   const Impl& s = *impl_;
-  auto& analyser = s.analysers[face];
-  if (!analyser) analyser = std::make_unique<ShapeAnalysis_Surface>(BRep_Tool::Surface(s.face(face)));
+  ShapeAnalysis_Surface& analyser = s.analyser(face);
   auto size_of = [&](Index f) {
     if (s.face_size[f] <= 0) s.face_size[f] = std::max(face_bounding_box(f).diagonal(), 1e-300);
     return s.face_size[f];
@@ -641,8 +668,8 @@ Vec3 BrepSource::project_to_face(Index face, const Vec3& p, double* distance, do
     // neighbours), which only the global search sees.
     bool on_border = false;
     bool local = near > 0 && s.has_last_uv[face] &&
-                 local_foot(*analyser, to_pnt(p), s.last_uv[face], size_of(face), uv, on_border) &&
-                 analyser->Value(uv).Distance(to_pnt(p)) <= (on_border ? 0.1 * near : near);
+                 local_foot(analyser, to_pnt(p), s.last_uv[face], size_of(face), uv, on_border) &&
+                 analyser.Value(uv).Distance(to_pnt(p)) <= (on_border ? 0.1 * near : near);
     // Without a warm start (near 0: the nearest point of the whole part, asked of every face
     // whose box is near enough), the search starts at the face's start-grid sample nearest p
     // (start_grid): the foot it settles on is no farther than that sample, in the basin of the
@@ -652,13 +679,13 @@ Vec3 BrepSource::project_to_face(Index face, const Vec3& p, double* distance, do
     // OCCT's global search samples a grid of the whole surface per point and then projects
     // onto its isolines: on a threaded screw 190,000 such searches took most of a two-minute fit.
     gp_Pnt2d start;
-    if (!local && near == 0 && nearest_start(s, face, *analyser, p, start))
-      local = local_foot(*analyser, to_pnt(p), start, size_of(face), uv, on_border) &&
-              stationary(*analyser, to_pnt(p), uv);
-    if (!local) uv = analyser->ValueOfUV(to_pnt(p), 1e-9);
+    if (!local && near == 0 && nearest_start(s, face, analyser, p, start))
+      local = local_foot(analyser, to_pnt(p), start, size_of(face), uv, on_border) &&
+              stationary(analyser, to_pnt(p), uv);
+    if (!local) uv = s.global_uv(face, to_pnt(p));
     s.last_uv[face] = uv, s.has_last_uv[face] = 1;
-    q = to_vec(analyser->Value(uv));
-    if (inside) *inside = s.inside_trim(face, analyser->Surface(), uv);
+    q = to_vec(analyser.Value(uv));
+    if (inside) *inside = s.inside_trim(face, analyser.Surface(), uv);
   } catch (const Standard_Failure&) {
   }
   if (distance) *distance = (q - p).norm();

@@ -144,6 +144,9 @@ class BrepSource {
   // memory back (an assembly of many B-spline faces: 300 MB of analysers
   // after loading, which stayed under every later peak).
   void release_caches() const;
+  // How many per-face analysers hold OCCT's global-search grid now (at most a bound:
+  // brep_source_impl.h's kSearchGrids).
+  Index held_search_grids() const;
 
   struct Impl;
 

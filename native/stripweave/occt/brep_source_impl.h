@@ -36,7 +36,20 @@ struct BrepSource::Impl {
   TopoDS_Shape shape;
   TopTools_IndexedMapOfShape faces, edges, vertices;
   TopTools_IndexedDataMapOfShapeListOfShape edge_faces;
-  mutable std::vector<std::unique_ptr<ShapeAnalysis_Surface>> analysers;  // per face, lazily
+  // Per face, lazily (analyser()). OCCT's global search (ShapeAnalysis_Surface::ValueOfUV)
+  // keeps a grid of the surface in its analyser, tens to hundreds of KB on a B-spline face,
+  // and an assembly of 618 faces, asked from two threads, held 400 MB of them at the refit's
+  // peak (the deviation's second look asks every face near a badly fitted sample). So at
+  // most kSearchGrids analysers that searched a non-elementary surface are kept
+  // (global_uv(): the least recently searched goes, and is rebuilt alike when asked again:
+  // no answer changes); one that has not costs little, and stays.
+  static constexpr Index kSearchGrids = 64;
+  mutable std::vector<std::unique_ptr<ShapeAnalysis_Surface>> analysers;
+  mutable std::vector<std::uint64_t> searched_at;  // per face, the clock at its last search; 0: no grid held
+  mutable std::uint64_t search_clock = 0;
+  mutable Index held_grids = 0;
+  ShapeAnalysis_Surface& analyser(Index f) const;
+  gp_Pnt2d global_uv(Index f, const gp_Pnt& p) const;
   mutable std::vector<gp_Pnt2d> last_uv;        // per face, the previous project_to_face answer
   mutable std::vector<std::uint8_t> has_last_uv;
   mutable std::vector<std::unique_ptr<BRepTopAdaptor_FClass2d>> classifiers;  // per face, lazily
@@ -78,6 +91,7 @@ struct BrepSource::Impl {
     TopExp::MapShapes(shape, TopAbs_VERTEX, vertices);
     TopExp::MapShapesAndAncestors(shape, TopAbs_EDGE, TopAbs_FACE, edge_faces);
     analysers.resize(faces.Extent());
+    searched_at.assign(faces.Extent(), 0);
     last_uv.resize(faces.Extent());
     has_last_uv.assign(faces.Extent(), 0);
     classifiers.resize(faces.Extent());
