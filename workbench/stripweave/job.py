@@ -32,6 +32,7 @@ import json
 import os
 import sys
 import time
+from dataclasses import dataclass
 
 from ._native import native
 from .design import Design
@@ -197,8 +198,27 @@ def _set_aside(ds, layout, components):
     return sorted(set(int(c) for c in ids[marked])), aside
 
 
-def _write_step(ds, layout, details, report, components, paths, out, red_text, tolerance, symmetries,
-                symmetry_tolerance, preview, say, lap):
+@dataclass
+class _Output:
+    """Where a weave writes and how it reports: the folder, the paths written so far (by
+    name), whether pictures are rendered, the progress line and the stage clock."""
+    out: str
+    paths: dict
+    preview: bool
+    say: object
+    lap: object
+
+
+@dataclass
+class _FitSettings:
+    """What the surfacing stage is asked for: the tolerance (model units; None: 1e-3 of the
+    diagonal), the symmetries the weave used and their tolerance (a fraction of the diagonal)."""
+    tolerance: float
+    symmetries: list
+    symmetry_tolerance: float
+
+
+def _write_step(ds, layout, details, report, components, red_text, output, fit):
     """weave's surfacing stage: patches.step, report.json's "fit" block and deviation.png.
 
     A valid layout is fitted whole. An invalid one is fitted without the components that hold
@@ -206,26 +226,27 @@ def _write_step(ds, layout, details, report, components, paths, out, red_text, t
     has is written, and the error still says the layout is not valid. Otherwise there is no
     STEP, and "fit" holds only the reason. Returns the error to raise once report.json is
     written (it names the folder), or None."""
+    paths, out, lap = output.paths, output.out, output.lap
     paths["step"] = os.path.join(out, "patches.step")
     set_aside, aside = _set_aside(ds, layout, components)
     invalid = f"cannot fit patches: the layout is not valid: {red_text}"
     if not layout["valid"] and not set_aside:
-        return _no_step(report, paths, invalid, out, lap)
-    tol = tolerance if tolerance is not None else 1e-3 * report["bbox_diagonal"]
+        return _no_step(report, invalid, output)
+    diagonal = report["bbox_diagonal"]
+    tol = fit.tolerance if fit.tolerance is not None else 1e-3 * diagonal
     try:
-        report["fit"], uncovered = _export_step(ds, tol, paths["step"], symmetries,
-                                               symmetry_tolerance * report["bbox_diagonal"],
-                                               set_aside_red=bool(set_aside))
+        report["fit"], uncovered = _export_step(ds, tol, paths["step"], fit.symmetries,
+                                               fit.symmetry_tolerance * diagonal, set_aside_red=bool(set_aside))
     except native.InputError as exc:
         # With components set aside, the others have no patch to fit either (a stray
         # triangle beside the red part): the layout's own message.
-        return _no_step(report, paths, invalid if set_aside else str(exc), out, lap)
+        return _no_step(report, invalid if set_aside else str(exc), output)
     lap("step")
     if set_aside:
         report["fit"]["set_aside_components"] = set_aside
         details = aside if details is not None else None
-    if preview:
-        say("rendering deviation.png")
+    if output.preview:
+        output.say("rendering deviation.png")
         from .preview import render_deviation
         paths["deviation"] = os.path.join(out, "deviation.png")
         with atomic_path(paths["deviation"]) as tmp:
@@ -242,13 +263,13 @@ def _write_step(ds, layout, details, report, components, paths, out, red_text, t
     return native.InputError(f"{message} (design, layout and report are in {out})")
 
 
-def _no_step(report, paths, message, out, lap):
+def _no_step(report, message, output):
     """No STEP: report.json's "fit" says why, and the error names the folder, where the design
     and its layout are still worth having."""
     report["fit"] = {"error": message}
-    del paths["step"]
-    lap("step")
-    return native.InputError(f"{message} (design, layout and report are in {out})")
+    del output.paths["step"]
+    output.lap("step")
+    return native.InputError(f"{message} (design, layout and report are in {output.out})")
 
 
 def _keep_backup(design_path, target):
@@ -405,8 +426,9 @@ def weave(model, design=None, auto=True, out=None, max_strips=None, patches=0, f
             del paths["preview"]
         if step:
             say("fitting patches (STEP)")
-            step_error = _write_step(ds, layout, details, report, components, paths, out, red_text,
-                                     tolerance, symmetries, symmetry_tolerance, preview, say, lap)
+            step_error = _write_step(ds, layout, details, report, components, red_text,
+                                     _Output(out, paths, preview, say, lap),
+                                     _FitSettings(tolerance, symmetries, symmetry_tolerance))
     timings.update({f"strips_{k}": v for k, v in ds.timings_ms().items()})
     timings.update({f"layout_{k}": v for k, v in layout.get("timings_ms", {}).items()})
     timings["total"] = sum(v for k, v in timings.items() if "_" not in k)
