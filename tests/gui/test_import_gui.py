@@ -1,7 +1,7 @@
 """Import design in the GUI keeps every strip of a design the `stripweave
 weave --auto` command wrote (issue 20): the running session takes the file's
 compatibility options.  The design is woven here, on a generated filleted
-box (~10 s, a BREP file: see `woven`), then tests/gui/run_import_gui.py runs
+box (~10 s, a STEP file: see `woven`), then tests/gui/run_import_gui.py runs
 in FreeCAD's GUI."""
 
 import json
@@ -24,12 +24,12 @@ TRIANGLES = 4000
 def woven(tmp_path_factory):
     import models
     tmp = tmp_path_factory.mktemp("stripweave_import_gui")
-    # A BREP file, which the CLI and the GUI's Part.read mesh alike. A STEP file does
-    # not: the CLI's reader and FreeCAD's give 3844 and 3868 solver triangles here,
-    # and a woven strip running at the compatibility band's edge beside another can
-    # fall inside the band on the other mesh (README, what is still weak).
-    step = tmp / "filleted_box.brep"
-    models.filleted_box().exportBrep(str(step))
+    # A STEP file: the CLI reads it as FreeCAD's Part.read hands it over (occt/brep_source.cpp,
+    # as_handed_over), so both mesh it alike; before, they gave 3844 and 3868 solver triangles
+    # here, and a woven strip running at the compatibility band's edge beside another fell
+    # inside the band on the other mesh.
+    step = tmp / "filleted_box.step"
+    models.filleted_box().exportStep(str(step))
     out = tmp / "woven"
     proc = subprocess.run([str(build_dir() / "stripweave"), "weave", str(step), "--auto", "--out", str(out),
                            "--target-triangles", str(TRIANGLES)], capture_output=True, text=True, timeout=300)
