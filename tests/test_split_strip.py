@@ -103,6 +103,27 @@ def test_a_bump_no_bicubic_fits_is_split_and_meets_tolerance(bump):
     assert fit["per_patch"][0]["layout_patch"] == r["per_patch"][0]["layout_patch"]
 
 
+def test_a_kept_split_reports_the_deviation_of_its_patches_both_ways(bump):
+    """A trial refit (a split round) measures only the patches -> source side while a patch
+    misses the tolerance there (nothing else can make the trial meet it); the round that is
+    kept is measured both ways: its figures are fit_deviation's of the patches returned."""
+    surface, net = bump
+    # One split at 5 spans: it helps (kept) but the bump's pieces still miss the tolerance.
+    r = native.refit(surface, net, max_spans=5, max_splits=1, return_patches=True)
+    assert len(r["splits"]) == 1 and not r["tolerance_met"]
+    assert "deviation_completed" in r["timings_ms"]  # measured one way as a trial, both once kept
+    d = native.fit_deviation(surface, r["patches"], r["tolerance"])
+    for key in ("max_deviation", "rms_deviation", "max_deviation_source_to_patches",
+                "max_deviation_patches_to_source", "rms_deviation_source_to_patches",
+                "rms_deviation_patches_to_source", "coverage", "uncovered_area", "source_samples",
+                "patch_samples", "measurement_error"):
+        assert r[key] == d[key], key
+    for mine, theirs in zip(r["per_patch"], d["per_patch"]):
+        assert mine["max_deviation"] == theirs["max_deviation"]
+        assert mine["max_deviation_source_to_patch"] == theirs["max_deviation_source_to_patch"]
+    assert np.array_equal(r["triangle_uncovered"], d["triangle_uncovered"])
+
+
 def test_an_open_strip_splits_its_end_edges_on_the_border(bump):
     """The bumpy box without its bottom patch: the top's strips run down two sides to the
     open border, where the split ends on a new vertex of each border edge."""

@@ -171,61 +171,79 @@ std::vector<double> triangle_uncovered(const Surface& surface, const SourceSampl
 
 }  // namespace
 
-FitDeviation fit_deviation(const Surface& surface, const std::vector<BSplinePatch>& patches, double tolerance,
-                           const DeviationOptions& options) {
-  FitDeviation out;
-  const Index nP = static_cast<Index>(patches.size());
-  out.per_patch.assign(nP, {});
-  const double h = options.spacing > 0 ? options.spacing : default_spacing(surface, options.max_source_samples);
-  const double chord = options.chord > 0 ? options.chord : tolerance / 10;
-  out.spacing = h;
-  Stopwatch watch(out.timings);
+namespace {
 
-  const SourceSamples S = sample_source(surface, h, chord);
+// What both directions share: the source samples and the options as used.
+struct Setup {
+  SourceSamples S;
+  const BrepSource* brep = nullptr;
+  double h = 0, chord = 0, eps_source = 0;
+};
+
+Setup setup(const Surface& surface, double tolerance, const DeviationOptions& options, FitDeviation& out,
+            Stopwatch& watch) {
+  Setup u;
+  u.h = options.spacing > 0 ? options.spacing : default_spacing(surface, options.max_source_samples);
+  u.chord = options.chord > 0 ? options.chord : tolerance / 10;
+  out.spacing = u.h;
+  u.S = sample_source(surface, u.h, u.chord);
   watch.lap("source_samples");
-  const BrepSource* brep = surface.brep && !S.face.empty() ? surface.brep.get() : nullptr;
-  const double eps_source = brep ? std::max(1.5 * S.max_chord, 2 * chord) : 0.0;
-  out.source_chord = S.max_chord;
-  out.unmeshed_faces = S.unmeshed_faces;
+  u.brep = surface.brep && !u.S.face.empty() ? surface.brep.get() : nullptr;
+  u.eps_source = u.brep ? std::max(1.5 * u.S.max_chord, 2 * u.chord) : 0.0;
+  out.source_chord = u.S.max_chord;
+  out.unmeshed_faces = u.S.unmeshed_faces;
+  return u;
+}
 
-  // Source -> patches. The tessellation and its tree live in this block only:
-  // the patch samples below are made after they are gone, so that the two
-  // largest parts of the measurement never sit in memory together.
-  const size_t nS = S.points.size();
-  std::vector<double> ds(nS, 0.0);
-  std::vector<Index> owner(nS, 0);
-  {
-    const PatchMesh P = patch_tessellation(patches, chord, options.max_patch_triangles);
-    watch.lap("patch_tessellation");
-    out.patch_chord = P.max_chord;
-    out.patch_triangles = P.mesh.num_triangles();
-    // Chordal bounds of both tessellations (see the header).
-    out.measurement_error = 2 * std::max(1.5 * P.max_chord, eps_source);
-    if (nP == 0) return out;
-    const SurfaceLocator locator(P.mesh, false);  // every query but a block's first has a hint
-    watch.lap("patch_tree");
-    parallel_for(blocks_of(nS), [&](Index b) {
-      const size_t end = std::min(nS, size_t(b + 1) * kBlock);
-      SurfacePoint3 c;
-      for (size_t k = size_t(b) * kBlock; k < end; ++k) {
-        c = locator.closest(S.points[k], c);
-        const Tri& t = P.mesh.triangles[c.triangle];
-        const Index p = P.patch[c.triangle];
-        ds[k] = distance_to_patch(patches[p], S.points[k], interpolate(P.uv, t, c.barycentric));
-        owner[k] = p;
-      }
-    });
-  }
+// Source -> patches: per source sample its distance to the nearest patch and
+// that patch; the patch tessellation's figures and measurement_error. The
+// tessellation and its tree live in here only: the patch samples are made
+// after they are gone, so that the two largest parts of the measurement never
+// sit in memory together.
+void source_to_patches(const Setup& u, const std::vector<BSplinePatch>& patches, const DeviationOptions& options,
+                       std::vector<double>& ds, std::vector<Index>& owner, FitDeviation& out, Stopwatch& watch) {
+  const Index nP = static_cast<Index>(patches.size());
+  const size_t nS = u.S.points.size();
+  ds.assign(nS, 0.0);
+  owner.assign(nS, 0);
+  const PatchMesh P = patch_tessellation(patches, u.chord, options.max_patch_triangles);
+  watch.lap("patch_tessellation");
+  out.patch_chord = P.max_chord;
+  out.patch_triangles = P.mesh.num_triangles();
+  // Chordal bounds of both tessellations (see the header).
+  out.measurement_error = 2 * std::max(1.5 * P.max_chord, u.eps_source);
+  if (nP == 0) return;
+  const SurfaceLocator locator(P.mesh, false);  // every query but a block's first has a hint
+  watch.lap("patch_tree");
+  parallel_for(blocks_of(nS), [&](Index b) {
+    const size_t end = std::min(nS, size_t(b + 1) * kBlock);
+    SurfacePoint3 c;
+    for (size_t k = size_t(b) * kBlock; k < end; ++k) {
+      c = locator.closest(u.S.points[k], c);
+      const Tri& t = P.mesh.triangles[c.triangle];
+      const Index p = P.patch[c.triangle];
+      ds[k] = distance_to_patch(patches[p], u.S.points[k], interpolate(P.uv, t, c.barycentric));
+      owner[k] = p;
+    }
+  });
   watch.lap("source_to_patches");
-  // Patches -> source, in two passes: every patch at half the samples per
-  // span, then at the full density around every sample within 0.7 of the
-  // patch's largest (at half density a bump of the deviation peaking between
-  // samples shows at least cos(pi / 4) = 0.71 of its peak at one of them, so
-  // no bump that could top the largest is left out): each patch's maximum as
-  // if sampled at the full density, at a fraction of the cost.
+}
+
+// Patches -> source, in two passes: every patch at half the samples per
+// span, then at the full density around every sample within 0.7 of the
+// patch's largest (at half density a bump of the deviation peaking between
+// samples shows at least cos(pi / 4) = 0.71 of its peak at one of them, so
+// no bump that could top the largest is left out): each patch's maximum as
+// if sampled at the full density, at a fraction of the cost. Fills the
+// per-patch and overall patches -> source figures and patch_samples.
+void patches_to_source(const Surface& surface, const Setup& u, const std::vector<BSplinePatch>& patches,
+                       double tolerance, const DeviationOptions& options, FitDeviation& out, Stopwatch& watch) {
+  const Index nP = static_cast<Index>(patches.size());
+  const SourceSamples& S = u.S;
+  const BrepSource* brep = u.brep;
   std::vector<PatchGrid> grids(nP);
   const int per_span = std::max(1, options.samples_per_span / 2);
-  parallel_for(nP, [&](Index p) { grids[p] = patch_sample_grid(patches[p], h, per_span); });
+  parallel_for(nP, [&](Index p) { grids[p] = patch_sample_grid(patches[p], u.h, per_span); });
   watch.lap("patch_samples");
   const SurfaceLocator source_locator(S.mesh, false);  // queries in patch order, hinted
   std::vector<std::shared_ptr<BrepSource>> copies(parallel_workers(Index(1) << 20));
@@ -297,25 +315,13 @@ FitDeviation fit_deviation(const Surface& surface, const std::vector<BSplinePatc
   const std::vector<double> de = to_source(extra);
   watch.lap("patches_to_source");
   // Figures, summed in sample order.
-  double s2_source = 0, w_source = 0, s2_patches = 0, w_patches = 0;
-  std::vector<double> s2(nP, 0.0), w(nP, 0.0);
-  for (size_t k = 0; k < nS; ++k) {
-    const double a = S.area[k], d = ds[k];
-    PatchDeviation& f = out.per_patch[owner[k]];
-    f.max_source_to_patch = std::max(f.max_source_to_patch, d);
-    f.source_area += a, ++f.source_samples;
-    s2[owner[k]] += a * d * d;
-    out.max_source_to_patches = std::max(out.max_source_to_patches, d);
-    s2_source += a * d * d, w_source += a;
-    if (d > tolerance) out.uncovered_area += a;
-  }
+  double s2_patches = 0, w_patches = 0;
   for (size_t k = 0; k < extra.size(); ++k) {
     PatchDeviation& f = out.per_patch[extra_patch[k]];
     f.max_patch_to_source = std::max(f.max_patch_to_source, de[k]);
   }
   for (Index p = 0; p < nP; ++p) {
     PatchDeviation& f = out.per_patch[p];
-    f.rms_source_to_patch = f.source_area > 0 ? std::sqrt(s2[p] / f.source_area) : 0.0;
     double sum2 = 0, weight = 0;
     const PatchGrid& g = grids[p];
     for (size_t k = 0; k < g.points.size(); ++k) {
@@ -329,16 +335,66 @@ FitDeviation fit_deviation(const Surface& surface, const std::vector<BSplinePatc
     out.max_patches_to_source = std::max(out.max_patches_to_source, f.max_patch_to_source);
     s2_patches += sum2, w_patches += weight;
   }
-  out.rms_source_to_patches = w_source > 0 ? std::sqrt(s2_source / w_source) : 0.0;
   out.rms_patches_to_source = w_patches > 0 ? std::sqrt(s2_patches / w_patches) : 0.0;
+  out.patch_samples = static_cast<Index>(nG + extra.size());
+}
+
+// The source -> patches figures (summed in sample order), the coverage and
+// the uncovered share per solver triangle.
+void source_figures(const Surface& surface, const Setup& u, const std::vector<double>& ds,
+                    const std::vector<Index>& owner, double tolerance, FitDeviation& out, Stopwatch& watch) {
+  const SourceSamples& S = u.S;
+  const size_t nS = S.points.size();
+  double s2_source = 0, w_source = 0;
+  std::vector<double> s2(out.per_patch.size(), 0.0);
+  for (size_t k = 0; k < nS; ++k) {
+    const double a = S.area[k], d = ds[k];
+    PatchDeviation& f = out.per_patch[owner[k]];
+    f.max_source_to_patch = std::max(f.max_source_to_patch, d);
+    f.source_area += a, ++f.source_samples;
+    s2[owner[k]] += a * d * d;
+    out.max_source_to_patches = std::max(out.max_source_to_patches, d);
+    s2_source += a * d * d, w_source += a;
+    if (d > tolerance) out.uncovered_area += a;
+  }
+  for (size_t p = 0; p < out.per_patch.size(); ++p) {
+    PatchDeviation& f = out.per_patch[p];
+    f.rms_source_to_patch = f.source_area > 0 ? std::sqrt(s2[p] / f.source_area) : 0.0;
+  }
+  out.rms_source_to_patches = w_source > 0 ? std::sqrt(s2_source / w_source) : 0.0;
   // Faces the mesher left without samples are unmeasured: uncovered.
   out.source_area = w_source + S.unmeshed_area;
   out.uncovered_area += S.unmeshed_area;
   out.coverage = out.source_area > 0 ? 1.0 - out.uncovered_area / out.source_area : 0.0;
   out.source_samples = static_cast<Index>(nS);
-  out.patch_samples = static_cast<Index>(nG + extra.size());
   out.triangle_uncovered = triangle_uncovered(surface, S, ds, tolerance);
   watch.lap("triangles");
+}
+
+}  // namespace
+
+FitDeviation fit_deviation(const Surface& surface, const std::vector<BSplinePatch>& patches, double tolerance,
+                           const DeviationOptions& options) {
+  FitDeviation out;
+  out.per_patch.assign(patches.size(), {});
+  Stopwatch watch(out.timings);
+  const Setup u = setup(surface, tolerance, options, out, watch);
+  std::vector<double> ds;
+  std::vector<Index> owner;
+  source_to_patches(u, patches, options, ds, owner, out, watch);
+  if (patches.empty()) return out;
+  patches_to_source(surface, u, patches, tolerance, options, out, watch);
+  source_figures(surface, u, ds, owner, tolerance, out, watch);
+  return out;
+}
+
+FitDeviation patches_to_source_deviation(const Surface& surface, const std::vector<BSplinePatch>& patches,
+                                         double tolerance, const DeviationOptions& options) {
+  FitDeviation out;
+  out.per_patch.assign(patches.size(), {});
+  Stopwatch watch(out.timings);
+  const Setup u = setup(surface, tolerance, options, out, watch);
+  if (!patches.empty()) patches_to_source(surface, u, patches, tolerance, options, out, watch);
   return out;
 }
 

@@ -107,4 +107,12 @@ struct FitDeviation {
 FitDeviation fit_deviation(const Surface& surface, const std::vector<BSplinePatch>& patches, double tolerance,
                            const DeviationOptions& options = {});
 
+// The patches -> source direction alone, exactly as fit_deviation measures
+// it (per patch max_patch_to_source, rms_patch_to_source, patch_samples; the
+// overall max and RMS; the source side left zero): enough to judge a trial
+// fit by each patch's own distance, without the patch tessellation, its tree
+// and a query per source sample (half the measurement's time).
+FitDeviation patches_to_source_deviation(const Surface& surface, const std::vector<BSplinePatch>& patches,
+                                         double tolerance, const DeviationOptions& options = {});
+
 }  // namespace stripweave

@@ -161,10 +161,25 @@ void measure_seams(const PatchNetwork& network, const NetworkTopology& topology,
 // The reported figures: the two-sided deviation and the coverage
 // (fit_deviation.h), overall and per patch; the tolerance is met when both
 // directions are within it and the patches cover the source.
+// A trial fit (`trial`: an even map or a split, steps 6 and 7) is judged by
+// each patch's own distance (patch_own_miss: its fit samples and the patches
+// -> source side) and by tolerance_met, which no source side can make true
+// while a patch lies farther than the tolerance from the source: then only
+// that side is measured (the source side, half the measurement's time, is
+// of no use to a trial that is undone) and source_side_pending is set;
+// complete_deviation measures both sides if the trial is kept.
 void report_deviation(const Surface& surface, const std::vector<BSplinePatch>& surfaces, const FitOptions& options,
-                      FitReport& report) {
+                      FitReport& report, bool trial) {
   const double tol = report.tolerance;
   FitDeviation& dev = report.deviation;
+  if (trial) {
+    dev = patches_to_source_deviation(surface, surfaces, tol, options.deviation);
+    if (dev.max_patches_to_source > tol) {
+      report.source_side_pending = true;
+      report.tolerance_met = false;
+      return;
+    }
+  }
   dev = fit_deviation(surface, surfaces, tol, options.deviation);
   double uncreased_edges = 0;
   for (size_t p = 0; p < surfaces.size(); ++p) {
@@ -181,12 +196,28 @@ void report_deviation(const Surface& surface, const std::vector<BSplinePatch>& s
   for (const auto& [name, ms] : dev.timings) report.timings.emplace_back("deviation_" + name, ms);
   report.tolerance_met = report.max_deviation <= tol && dev.coverage >= kCoverageMet;
   report.tolerance_met_uncreased = report.max_deviation_uncreased <= tol && uncreased_edges <= tol;
+  report.source_side_pending = false;
+}
+
+// A kept trial's report, both sides measured: exactly what the fit would
+// have reported as the first fit (report_deviation is a function of the
+// patches alone).
+void complete_deviation(const Surface& surface, const FitOptions& options, FitResult& result) {
+  FitReport& report = result.report;
+  if (!report.source_side_pending) return;
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  report_deviation(surface, result.surfaces, options, report, false);
+  const double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  report.timings.emplace_back("deviation_completed", ms);
+  report.time_s += 1e-3 * ms;
 }
 
 // Steps 1 to 5 (the header) and 7 on one network, without the shell.
-// `memo`: the samples of the fits before (sample_memo.h).
+// `memo`: the samples of the fits before (sample_memo.h); `trial`: see
+// report_deviation.
 FitResult fit_network(const Surface& surface, const PatchNetwork& network, const FitOptions& options,
-                      SampleMemo& memo) {
+                      SampleMemo& memo, bool trial = false) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   FitResult result;
@@ -236,7 +267,7 @@ FitResult fit_network(const Surface& surface, const PatchNetwork& network, const
   // its tessellations and trees, the peak of the surfacing stage.
   std::vector<PatchSamples>().swap(samples.patches);
   std::vector<EdgeSamples>().swap(samples.edges);
-  report_deviation(surface, result.surfaces, options, report);
+  report_deviation(surface, result.surfaces, options, report, trial);
   watch.lap("deviation");
   stage("measuring the seams", 0.9, 0.93);
   measure_seams(network, topology, result.surfaces, options, report);
@@ -403,7 +434,7 @@ void split_and_refit(const Surface& surface, const PatchNetwork& network, const 
     const Index budget = options.max_splits - Index(kept.size());
     SplitRound trial = apply_splits(base, layout, split_choices(base, result.report, options), round, budget);
     if (trial.splits.empty()) break;
-    FitResult refit = fit_network(surface, *trial.net, options, memo);
+    FitResult refit = fit_network(surface, *trial.net, options, memo, true);
     std::vector<SplitChoice> good;
     for (size_t k = 0; k < trial.splits.size(); ++k) {
       if (strip_helped(result.report, refit.report, trial.base, trial.splits[k])) good.push_back(trial.choices[k]);
@@ -412,13 +443,14 @@ void split_and_refit(const Surface& surface, const PatchNetwork& network, const 
     if (!good.empty() && good.size() < trial.splits.size()) {
       other_fits_ms += 1e3 * refit.report.time_s;
       trial = apply_splits(base, layout, good, round, budget);
-      refit = fit_network(surface, *trial.net, options, memo);
+      refit = fit_network(surface, *trial.net, options, memo, true);
     }
     if (good.empty() || !round_helped(result.report, refit.report, trial)) {
       other_fits_ms += 1e3 * refit.report.time_s;
       if (!good.empty()) rejected.insert(rejected.end(), trial.splits.begin(), trial.splits.end());
       break;
     }
+    complete_deviation(surface, options, refit);
     other_fits_ms += 1e3 * result.report.time_s;
     result = std::move(refit);
     net = std::move(trial.net);
@@ -460,18 +492,19 @@ std::shared_ptr<PatchNetwork> even_maps_and_refit(const Surface& surface, const 
     return net;
   };
   std::shared_ptr<PatchNetwork> net = mapped(tried);
-  FitResult refit = fit_network(surface, *net, options, memo);
+  FitResult refit = fit_network(surface, *net, options, memo, true);
   std::vector<Index> helped;
   for (Index p : tried)
     if (patch_own_miss(refit.report, p) < patch_own_miss(result.report, p)) helped.push_back(p);
   if (!helped.empty() && helped.size() < tried.size()) {
     other_fits_ms += 1e3 * refit.report.time_s;
     net = mapped(helped);
-    refit = fit_network(surface, *net, options, memo);
+    refit = fit_network(surface, *net, options, memo, true);
   }
   const FitReport &before = result.report, &after = refit.report;
   const bool kept = !helped.empty() && (after.tolerance_met || (network_own_miss(after) <= network_own_miss(before) &&
                                                                 after.folded_patches <= before.folded_patches));
+  if (kept) complete_deviation(surface, options, refit);
   other_fits_ms += 1e3 * (kept ? before.time_s : after.time_s);
   if (!kept) return nullptr;
   result = std::move(refit);

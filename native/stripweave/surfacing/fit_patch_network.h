@@ -225,6 +225,10 @@ struct FitReport {
   double max_edge_deviation = 0;      // edge curves to their projected samples
   std::vector<PatchFitFigures> per_patch;
   bool tolerance_met = false;         // both directions within tolerance, coverage >= kCoverageMet
+  // A trial fit's report (steps 6, 7) whose patches -> source side already
+  // misses the tolerance: the source side is not measured (deviation holds
+  // the patch side only) unless the trial is kept.
+  bool source_side_pending = false;
   // Patches the layout lays over a crease, patches whose fit folds, and
   // whether the tolerance holds on the others (patches and their edges).
   Index creased_patches = 0, folded_patches = 0;
