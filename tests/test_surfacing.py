@@ -406,3 +406,36 @@ def test_the_cubic_basis_agrees_with_cox_de_boor_on_every_span_of_the_clamped_un
         assert abs(sum(dN)) < 1e-12 * n and abs(sum(d2N)) < 1e-11 * n * n
     with pytest.raises(ValueError, match="span"):
         native.cubic_basis(0, 0.5)
+
+
+def _patch_point(patch, u, v):
+    """The patch at (u, v) summed here from native.cubic_basis at u and at v."""
+    iu, Nu, _, _ = native.cubic_basis(patch["nu"], u)
+    iv, Nv, _, _ = native.cubic_basis(patch["nv"], v)
+    control = patch["control"].reshape(patch["nu"] + 3, patch["nv"] + 3, 3)
+    return np.einsum("a,b,abk->k", Nu, Nv, control[iu:iu + 4, iv:iv + 4])
+
+
+@pytest.mark.parametrize("spans,cells", [((1, 1), (3, 2)), ((3, 5), (7, 4)), ((6, 2), (13, 9))])
+def test_a_grid_from_the_basis_kept_per_row_and_column_is_the_patch_at_each_node(spans, cells):
+    """patch_grid evaluates the basis once per grid row and column (CubicBasis, bspline.h) and
+    reuses it at every node and triangle centroid: each node is the patch at its (u, v), and
+    max_chord the largest distance between a triangle's flat centroid and the patch at the
+    centroid's (u, v), as evaluated point by point."""
+    rng = np.random.default_rng(7)
+    nu, nv = spans
+    patch = {"nu": nu, "nv": nv, "control": rng.normal(size=((nu + 3) * (nv + 3), 3))}
+    cu, cv = cells
+    g = native.patch_grid(patch, cu, cv)
+    assert g["uv"].shape == ((cu + 1) * (cv + 1), 2)
+    for (u, v), x in zip(g["uv"], g["points"]):
+        assert np.abs(x - _patch_point(patch, u, v)).max() < 1e-12
+    at = g["points"].reshape(cu + 1, cv + 1, 3)
+    chord = 0.0
+    for i in range(cu):
+        for j in range(cv):
+            for tri in (((i, j), (i + 1, j), (i + 1, j + 1)), ((i, j), (i + 1, j + 1), (i, j + 1))):
+                u, v = np.mean([(a / cu, b / cv) for a, b in tri], axis=0)
+                flat = np.mean([at[a, b] for a, b in tri], axis=0)
+                chord = max(chord, np.linalg.norm(_patch_point(patch, u, v) - flat))
+    assert g["max_chord"] == pytest.approx(chord, rel=1e-12, abs=1e-12)

@@ -67,6 +67,10 @@
 //     input's form (the input itself when no even map or split changed it).
 //   Runs without the GIL. Bad networks raise InputError.
 //
+// patch_grid(patch, nu, nv) -> {"uv": (n, 2), "points": (n, 3), "max_chord"}
+//   the grid of nu x nv cells the deviation measures on (surfacing/patch_grid.h),
+//   node (i, j) at index i * (nv + 1) + j; for tests.
+//
 // fit_deviation(surface, patches, tolerance, spacing=0, chord=0) -> dict
 //   patches as refit's "patches"; the two-sided deviation and coverage of
 //   those patches against the surface's source (surfacing/fit_deviation.h):
@@ -108,6 +112,7 @@
 #include "stripweave/surface/surface.h"
 #include "stripweave/surfacing/bspline.h"
 #include "stripweave/surfacing/fit_patch_network.h"
+#include "stripweave/surfacing/patch_grid.h"
 #include "stripweave/surfacing/patch_parameterization.h"
 #include "stripweave/surfacing/patch_shell.h"
 
@@ -336,6 +341,18 @@ void bind_surfacing(py::module_& m) {
         return py::make_tuple(first, N, dN, d2N);
       },
       py::arg("n"), py::arg("t"), "The cubic basis of the clamped uniform spline with n spans at t (for tests)");
+
+  m.def("patch_grid", [](const py::dict& patch, int nu, int nv) {
+        PatchGrid g = patch_grid_of_size(patch_from(patch), nu, nv);
+        const auto nodes = static_cast<py::ssize_t>(g.uv.size());
+        py::dict d;
+        d["uv"] = array_owning<double>(std::move(g.uv), {nodes, py::ssize_t(2)});
+        d["points"] = points_array(std::move(g.points));
+        d["max_chord"] = g.max_chord;
+        return d;
+      },
+      py::arg("patch"), py::arg("nu"), py::arg("nv"),
+      "A patch's grid of nu x nv cells (surfacing/patch_grid.h; for tests)");
 
   m.def("square_map", [](const py::dict& patch) {
         const NetworkPatch P = patch_mesh_from(patch);

@@ -70,17 +70,26 @@ Vec3 BSplineCurve3::derivative(double t) const {
   return s;
 }
 
+CubicBasis cubic_basis_at(int n, double t) {
+  CubicBasis b;
+  b.first = cubic_basis(n, t, b.N, b.dN);
+  return b;
+}
+
 void BSplinePatch::evaluate(double u, double v, Vec3* S, Vec3* Su, Vec3* Sv) const {
-  double Nu[4], dNu[4], Nv[4], dNv[4];
-  const int iu = cubic_basis(nu, u, Nu, dNu);
-  const int iv = cubic_basis(nv, v, Nv, dNv);
+  evaluate(cubic_basis_at(nu, u), cubic_basis_at(nv, v), S, Su, Sv);
+}
+
+void BSplinePatch::evaluate(const CubicBasis& bu, const CubicBasis& bv, Vec3* S, Vec3* Su, Vec3* Sv) const {
+  // Each sum is accumulated on its own, so leaving out the partials (value())
+  // changes no bit of the position.
   Vec3 s = Vec3::Zero(), su = Vec3::Zero(), sv = Vec3::Zero();
   for (int a = 0; a < 4; ++a)
     for (int b = 0; b < 4; ++b) {
-      const Vec3& c = P(iu + a, iv + b);
-      s += Nu[a] * Nv[b] * c;
-      su += dNu[a] * Nv[b] * c;
-      sv += Nu[a] * dNv[b] * c;
+      const Vec3& c = P(bu.first + a, bv.first + b);
+      if (S) s += bu.N[a] * bv.N[b] * c;
+      if (Su) su += bu.dN[a] * bv.N[b] * c;
+      if (Sv) sv += bu.N[a] * bv.dN[b] * c;
     }
   if (S) *S = s;
   if (Su) *Su = su;

@@ -16,9 +16,11 @@
 //       parameter, one of nine span shapes derived by Cox-de Boor (The NURBS
 //       Book §2.2; bspline.cpp)
 //   BSplineCurve3    n spans, control points; value(t), derivative(t)
+//   cubic_basis_at(n, t)  the same basis and derivatives kept (CubicBasis),
+//       to evaluate a patch at many points sharing a u or a v
 //   BSplinePatch     nu x nv spans, control grid P(i, j), i along u
 //                    (0..nu+2), j along v (0..nv+2); value(u, v) and first
-//                    partials
+//                    partials, at (u, v) or from a CubicBasis in each
 #pragma once
 
 #include "stripweave/core/types.h"
@@ -30,6 +32,15 @@ constexpr int kSplineDegree = 3;
 // The 4 nonzero cubic basis functions at t (clamped to [0, 1]) on n uniform
 // spans; returns the index of the first. dN / d2N may be null.
 int cubic_basis(int n, double t, double N[4], double dN[4] = nullptr, double d2N[4] = nullptr);
+
+// The basis at one parameter, kept to be reused: a grid's nodes share their
+// u along a row and their v along a column, so the basis is evaluated once
+// per row and column instead of at every node (BSplinePatch::evaluate).
+struct CubicBasis {
+  int first = 0;
+  double N[4] = {0, 0, 0, 0}, dN[4] = {0, 0, 0, 0};
+};
+CubicBasis cubic_basis_at(int n, double t);
 
 struct BSplineCurve3 {
   int spans = 1;
@@ -50,8 +61,12 @@ struct BSplinePatch {
   const Vec3& P(int i, int j) const { return control[index(i, j)]; }
 
   Vec3 value(double u, double v) const;
-  // Position and first partials at (u, v).
+  // Position and first partials at (u, v); the partials are summed only
+  // when asked for.
   void evaluate(double u, double v, Vec3* S, Vec3* Su, Vec3* Sv) const;
+  // The same sums (to the bit) from the basis at u (on nu spans) and at v
+  // (on nv spans), evaluated beforehand.
+  void evaluate(const CubicBasis& bu, const CubicBasis& bv, Vec3* S, Vec3* Su, Vec3* Sv) const;
   // Unit normal Su x Sv (outward for a patch whose sides run counter-
   // clockwise seen from outside), zero where degenerate.
   Vec3 normal(double u, double v) const;

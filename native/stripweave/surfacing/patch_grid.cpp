@@ -20,36 +20,76 @@ double control_length(const BSplinePatch& p, int d) {
   return longest;
 }
 
-// mesh: also the triangles, and max_chord measured over them; else the nodes only.
+// The basis on `spans` spans at each of `t`.
+std::vector<CubicBasis> basis_at(int spans, const std::vector<double>& t) {
+  std::vector<CubicBasis> out;
+  out.reserve(t.size());
+  for (double x : t) out.push_back(cubic_basis_at(spans, x));
+  return out;
+}
+
+// The parameters of a grid of n cells in one direction: its nodes k / n, and
+// those of its triangles' centroids, each the mean of three nodes' summed in
+// the order the triangle lists them (add(), below), so that it is to the bit
+// the parameter the nodes' (u, v) give: of nodes k, k + 1, k + 1 (next2),
+// k, k + 1, k (back) and k, k, k + 1 (twice).
+struct GridParameters {
+  std::vector<double> node, next2, back, twice;
+};
+
+GridParameters grid_parameters(int n) {
+  GridParameters g;
+  const double d = 1.0 / n;
+  for (int k = 0; k <= n; ++k) g.node.push_back(k * d);
+  for (int k = 0; k < n; ++k) {
+    const double a = g.node[k], b = g.node[k + 1];
+    g.next2.push_back((a + b + b) / 3);
+    g.back.push_back((a + b + a) / 3);
+    g.twice.push_back((a + a + b) / 3);
+  }
+  return g;
+}
+
+// mesh: also the triangles, and max_chord measured over them; else the nodes
+// only. The basis is evaluated once per grid row and column (the nodes and
+// the centroids share their u along a row, their v along a column), which
+// was most of a grid's time.
 PatchGrid grid_of(const BSplinePatch& patch, int nu, int nv, bool mesh) {
   PatchGrid g;
   g.nu = nu, g.nv = nv;
   const double du = 1.0 / nu, dv = 1.0 / nv;
+  const GridParameters pu = grid_parameters(nu), pv = grid_parameters(nv);
+  const std::vector<CubicBasis> bu = basis_at(patch.nu, pu.node), bv = basis_at(patch.nv, pv.node);
   const size_t nodes = size_t(nu + 1) * size_t(nv + 1);
   g.uv.reserve(nodes), g.points.reserve(nodes), g.weight.reserve(nodes);
   if (mesh) g.triangles.reserve(2 * size_t(nu) * size_t(nv));
   for (int i = 0; i <= nu; ++i)
     for (int j = 0; j <= nv; ++j) {
-      const Vec2 uv(i * du, j * dv);
       Vec3 S, Su, Sv;
-      patch.evaluate(uv.x(), uv.y(), &S, &Su, &Sv);
+      patch.evaluate(bu[i], bv[j], &S, &Su, &Sv);
       const double ci = (i == 0 || i == nu) ? 0.5 : 1.0, cj = (j == 0 || j == nv) ? 0.5 : 1.0;
-      g.uv.push_back(uv);
+      g.uv.emplace_back(pu.node[i], pv.node[j]);
       g.points.push_back(S);
       g.weight.push_back(Su.cross(Sv).norm() * du * dv * ci * cj);
     }
   if (!mesh) return g;
+  const std::vector<CubicBasis> u_next2 = basis_at(patch.nu, pu.next2), u_back = basis_at(patch.nu, pu.back);
+  const std::vector<CubicBasis> v_next2 = basis_at(patch.nv, pv.next2), v_twice = basis_at(patch.nv, pv.twice);
   auto id = [nv](int i, int j) { return Index(i * (nv + 1) + j); };
-  auto add = [&](Index a, Index b, Index c) {
+  // Triangle (a, b, c) and the basis at its centroid's u and v.
+  auto add = [&](Index a, Index b, Index c, const CubicBasis& cu, const CubicBasis& cv) {
     g.triangles.push_back({a, b, c});
-    const Vec2 q = (g.uv[a] + g.uv[b] + g.uv[c]) / 3;
     const Vec3 flat = (g.points[a] + g.points[b] + g.points[c]) / 3;
-    g.max_chord = std::max(g.max_chord, (patch.value(q.x(), q.y()) - flat).norm());
+    Vec3 at;
+    patch.evaluate(cu, cv, &at, nullptr, nullptr);
+    g.max_chord = std::max(g.max_chord, (at - flat).norm());
   };
   for (int i = 0; i < nu; ++i)
     for (int j = 0; j < nv; ++j) {
-      add(id(i, j), id(i + 1, j), id(i + 1, j + 1));
-      add(id(i, j), id(i + 1, j + 1), id(i, j + 1));
+      // (i, j), (i + 1, j), (i + 1, j + 1): u of nodes i, i + 1, i + 1; v of j, j, j + 1.
+      add(id(i, j), id(i + 1, j), id(i + 1, j + 1), u_next2[i], v_twice[j]);
+      // (i, j), (i + 1, j + 1), (i, j + 1): u of i, i + 1, i; v of j, j + 1, j + 1.
+      add(id(i, j), id(i + 1, j + 1), id(i, j + 1), u_back[i], v_next2[j]);
     }
   return g;
 }
