@@ -266,9 +266,22 @@ def click_widget(widget, point=None):
         parent.ensureWidgetVisible(widget)
         pump(0.1)
     dpr = widget.devicePixelRatioF() if hasattr(widget, "devicePixelRatioF") else 1.0
-    centre = widget.mapToGlobal(point if point is not None else widget.rect().center())
+    centre = _settled(lambda: widget.mapToGlobal(point if point is not None else widget.rect().center()))
     xdotool("mousemove", int(centre.x() * dpr), int(centre.y() * dpr), settle=0.05)
     xdotool("click", 1, settle=0.0)
+
+
+def _settled(where, timeout=2.0):
+    """where() once two readings 50 ms apart agree: a panel re-lays itself out after the event
+    loop runs (a table row removed moves the button below it up), and a click aimed at the
+    old place missed the button on a loaded machine."""
+    last, end = None, time.monotonic() + timeout
+    while True:
+        pump(0.05)
+        now = where()
+        if now == last or time.monotonic() > end:
+            return now
+        last = now
 
 
 def save_screenshot(view, path):
