@@ -333,6 +333,27 @@ FitOptions options_from(const py::kwargs& kw) {
 
 }  // namespace
 
+namespace {
+
+// Point i projected onto B-rep face faces[i], all on one copy of the B-rep,
+// and how many of the copy's analysers hold a search grid at the end.
+std::pair<py::array_t<double>, Index> project_each(const Surface& surface, const std::vector<Index>& faces,
+                                                   const py::array_t<double>& points, double near) {
+  if (!surface.brep) throw InputError("project_to_face: the surface has no B-rep source");
+  const auto x = points.unchecked<2>();
+  if (x.shape(1) != 3 || static_cast<size_t>(x.shape(0)) != faces.size())
+    throw InputError("project_to_face: points must be (n, 3), one per face");
+  for (Index f : faces)
+    if (f < 0 || f >= surface.brep->num_faces()) throw InputError("project_to_face: no such face");
+  const auto brep = surface.brep->thread_copy();
+  std::vector<Vec3> out;
+  for (py::ssize_t i = 0; i < x.shape(0); ++i)
+    out.push_back(brep->project_to_face(faces[i], Vec3(x(i, 0), x(i, 1), x(i, 2)), nullptr, near));
+  return {points_array(std::move(out)), brep->held_search_grids()};
+}
+
+}  // namespace
+
 void bind_surfacing(py::module_& m) {
   m.def("cubic_basis", [](int n, double t) {
         if (n < 1) throw InputError("cubic_basis needs at least one span");
@@ -363,29 +384,11 @@ void bind_surfacing(py::module_& m) {
         return py::make_tuple(uv, even_map_gain(P));
       }, py::arg("patch"));
   m.def("project_to_face", [](const Surface& surface, Index face, const py::array_t<double>& points, double near) {
-        if (!surface.brep) throw InputError("project_to_face: the surface has no B-rep source");
-        if (face < 0 || face >= surface.brep->num_faces()) throw InputError("project_to_face: no such face");
-        const auto x = points.unchecked<2>();
-        if (x.shape(1) != 3) throw InputError("project_to_face: points must be (n, 3)");
-        const auto brep = surface.brep->thread_copy();
-        std::vector<Vec3> out;
-        for (py::ssize_t i = 0; i < x.shape(0); ++i)
-          out.push_back(brep->project_to_face(face, Vec3(x(i, 0), x(i, 1), x(i, 2)), nullptr, near));
-        return points_array(std::move(out));
+        return project_each(surface, std::vector<Index>(points.shape(0), face), points, near).first;
       }, py::arg("surface"), py::arg("face"), py::arg("points"), py::arg("near") = 0.0);
   m.def("project_to_faces", [](const Surface& surface, const std::vector<Index>& faces,
                                const py::array_t<double>& points, double near) {
-        if (!surface.brep) throw InputError("project_to_faces: the surface has no B-rep source");
-        const auto x = points.unchecked<2>();
-        if (x.shape(1) != 3 || static_cast<size_t>(x.shape(0)) != faces.size())
-          throw InputError("project_to_faces: points must be (n, 3), one per face");
-        for (Index f : faces)
-          if (f < 0 || f >= surface.brep->num_faces()) throw InputError("project_to_faces: no such face");
-        const auto brep = surface.brep->thread_copy();
-        std::vector<Vec3> out;
-        for (py::ssize_t i = 0; i < x.shape(0); ++i)
-          out.push_back(brep->project_to_face(faces[i], Vec3(x(i, 0), x(i, 1), x(i, 2)), nullptr, near));
-        return py::make_tuple(points_array(std::move(out)), brep->held_search_grids());
+        return project_each(surface, faces, points, near);
       }, py::arg("surface"), py::arg("faces"), py::arg("points"), py::arg("near") = 0.0);
   m.def("refit", [](const Surface& surface, const py::dict& network, std::optional<double> tolerance,
                     std::optional<std::string> step_path, bool return_brep, bool return_patches,

@@ -398,4 +398,14 @@ FitDeviation patches_to_source_deviation(const Surface& surface, const std::vect
   return out;
 }
 
+void add_source_side(const Surface& surface, const std::vector<BSplinePatch>& patches, double tolerance,
+                     const DeviationOptions& options, FitDeviation& partial) {
+  Stopwatch watch(partial.timings);
+  const Setup u = setup(surface, tolerance, options, partial, watch);
+  std::vector<double> ds;
+  std::vector<Index> owner;
+  source_to_patches(u, patches, options, ds, owner, partial, watch);
+  if (!patches.empty()) source_figures(surface, u, ds, owner, tolerance, partial, watch);
+}
+
 }  // namespace stripweave

@@ -115,4 +115,10 @@ FitDeviation fit_deviation(const Surface& surface, const std::vector<BSplinePatc
 FitDeviation patches_to_source_deviation(const Surface& surface, const std::vector<BSplinePatch>& patches,
                                          double tolerance, const DeviationOptions& options = {});
 
+// Adds the source -> patches side (and the coverage) to what
+// patches_to_source_deviation measured of the same patches: together exactly
+// fit_deviation's figures, the patches -> source side not measured again.
+void add_source_side(const Surface& surface, const std::vector<BSplinePatch>& patches, double tolerance,
+                     const DeviationOptions& options, FitDeviation& partial);
+
 }  // namespace stripweave

@@ -158,29 +158,10 @@ void measure_seams(const PatchNetwork& network, const NetworkTopology& topology,
   }
 }
 
-// The reported figures: the two-sided deviation and the coverage
-// (fit_deviation.h), overall and per patch; the tolerance is met when both
-// directions are within it and the patches cover the source.
-// A trial fit (`trial`: an even map or a split, steps 6 and 7) is judged by
-// each patch's own distance (patch_own_miss: its fit samples and the patches
-// -> source side) and by tolerance_met, which no source side can make true
-// while a patch lies farther than the tolerance from the source: then only
-// that side is measured (the source side, half the measurement's time, is
-// of no use to a trial that is undone) and source_side_pending is set;
-// complete_deviation measures both sides if the trial is kept.
-void report_deviation(const Surface& surface, const std::vector<BSplinePatch>& surfaces, const FitOptions& options,
-                      FitReport& report, bool trial) {
+// The report's figures from its two-sided deviation.
+void report_figures(const std::vector<BSplinePatch>& surfaces, FitReport& report) {
   const double tol = report.tolerance;
-  FitDeviation& dev = report.deviation;
-  if (trial) {
-    dev = patches_to_source_deviation(surface, surfaces, tol, options.deviation);
-    if (dev.max_patches_to_source > tol) {
-      report.source_side_pending = true;
-      report.tolerance_met = false;
-      return;
-    }
-  }
-  dev = fit_deviation(surface, surfaces, tol, options.deviation);
+  const FitDeviation& dev = report.deviation;
   double uncreased_edges = 0;
   for (size_t p = 0; p < surfaces.size(); ++p) {
     PatchFitFigures& f = report.per_patch[p];
@@ -199,15 +180,44 @@ void report_deviation(const Surface& surface, const std::vector<BSplinePatch>& s
   report.source_side_pending = false;
 }
 
+// The reported figures: the two-sided deviation and the coverage
+// (fit_deviation.h), overall and per patch; the tolerance is met when both
+// directions are within it and the patches cover the source.
+// A trial fit (`trial`: an even map or a split, steps 6 and 7) is judged by
+// each patch's own distance (patch_own_miss: its fit samples and the patches
+// -> source side) and by tolerance_met, which no source side can make true
+// while a patch lies farther than the tolerance from the source: then only
+// that side is measured (the source side, half the measurement's time, is
+// of no use to a trial that is undone) and source_side_pending is set;
+// complete_deviation adds the source side if the trial is kept.
+void report_deviation(const Surface& surface, const std::vector<BSplinePatch>& surfaces, const FitOptions& options,
+                      FitReport& report, bool trial) {
+  const double tol = report.tolerance;
+  FitDeviation& dev = report.deviation;
+  if (!trial) {
+    dev = fit_deviation(surface, surfaces, tol, options.deviation);
+  } else {
+    dev = patches_to_source_deviation(surface, surfaces, tol, options.deviation);
+    if (dev.max_patches_to_source > tol) {
+      report.source_side_pending = true;
+      report.tolerance_met = false;
+      return;
+    }
+    add_source_side(surface, surfaces, tol, options.deviation, dev);
+  }
+  report_figures(surfaces, report);
+}
+
 // A kept trial's report, both sides measured: exactly what the fit would
-// have reported as the first fit (report_deviation is a function of the
-// patches alone).
+// have reported as the first fit (the two sides are independent figures of
+// the patches alone), its patches -> source side not measured again.
 void complete_deviation(const Surface& surface, const FitOptions& options, FitResult& result) {
   FitReport& report = result.report;
   if (!report.source_side_pending) return;
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
-  report_deviation(surface, result.surfaces, options, report, false);
+  add_source_side(surface, result.surfaces, report.tolerance, options.deviation, report.deviation);
+  report_figures(result.surfaces, report);
   const double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
   report.timings.emplace_back("deviation_completed", ms);
   report.time_s += 1e-3 * ms;
