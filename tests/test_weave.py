@@ -727,6 +727,24 @@ def test_an_area_no_single_strip_covers_gets_a_pair():
     assert ds.native.strip_count == 4
 
 
+def test_a_point_refused_as_a_region_seed_is_still_asked_as_the_uncovered_area_seed():
+    """The farthest point from every loop is the largest region's seed and the uncovered
+    area's alike (the shared trj5 key: both at the tip of its bit). A colour seed's strip
+    must lower the score, an uncovered area's may keep it if it covers (with a pair where it
+    leaves a red region): refused as the first, the point is still asked as the second, and
+    only a refusal as the second skips it there."""
+    from stripweave.weave import _coverage_key, _key, _Weaver, seeds_in_order
+    ds = DesignSession(sw.from_shape(key(), target_triangles=8000),
+                       Design([[(-12, 0, 0, 0, 0, 1)], [(0, 10, 2, 1, 0, 0)]]))
+    w = _Weaver(ds, WeaveOptions())
+    a = w.assess()
+    point = a["uncovered"]["point"]
+    assert a["uncovered"]["largest_area"] > w.options.uncovered * a["uncovered"]["surface_area"]
+    asked = [x for x in seeds_in_order(a, w.options, {_key(point)}) if x[2] == "uncovered"]
+    assert [x[3] for x in asked][:1] == [[point]]
+    assert not any(x[0] == "uncovered area" for x in seeds_in_order(a, w.options, {_coverage_key(point)}))
+
+
 def test_a_sharp_key_is_not_left_one_patch():
     """A key with a bit and a collar (creases ringing its shaft): its red phase puts both loops
     on the ring, and the layout is one non-quad patch over the whole part (the shared trj5

@@ -353,15 +353,27 @@ def seeds_in_order(a, options, skip):
     u = a["uncovered"]
     # No crossing yet means no patch at all (a disc cut by nothing is "valid"): keep weaving.
     wanted = u["largest_area"] > options.uncovered * u["surface_area"] or a["crossings"] == 0
-    if u["found"] and wanted and _key(u["point"]) not in skip:
+    if u["found"] and wanted and _coverage_key(u["point"]) not in skip:
         out.append(("uncovered area", -1, "uncovered", [u["point"]]))
     if a["crossings"] == 0 and a["colours"]["red"] == 0:
         # Valid but no patch yet (a sphere cut once, a disc): the largest regions' centres.
         for i, r in sorted(enumerate(a["regions"]), key=lambda x: (-x[1]["area"], x[0])):
-            points = [p for p in r["seeds"] if _key(p) not in skip]
+            points = [p for p in r["seeds"] if _coverage_key(p) not in skip]
             if points:
                 out.append(("no patch yet", i, "uncovered", points))
     return out
+
+
+def _coverage_key(p):
+    """The skip key of a point asked as an uncovered area's seed. A point that gave nothing as
+    a region's seed may still give something here, as the question differs: a colour seed's
+    strip must lower the score, an uncovered area's may leave it as it was if it brings
+    surface into patches, and where its loop would leave a red region it is tried with the
+    loop that makes that region valid again (_coverage_pair). The farthest point from every
+    loop is both the largest region's seed and the uncovered area's: on a part whose two
+    strips lie on one handle (a key's bow), the crease phase asked it first, and the pair
+    that would have covered the shaft was never tried (one patch over the whole part)."""
+    return ("uncovered",) + _key(p)
 
 
 def _open_seeds(a, skip):
@@ -1677,7 +1689,7 @@ def _weave(w, ds, options, start=None):
             w.axis_placed = w.axis_placed or added["reason"] == "beside the rotation's axis"
             continue
         for p in points:      # nothing helped from this region's seeds: do not ask again
-            skip.add(_key(p))
+            skip.add(_coverage_key(p) if colour == "uncovered" else _key(p))
 
     if options.refine and a["colours"]["red"] == 0 and result.stopped in ("done", "no seed helps"):
         a = _refine(w, ds, options, a, result, elapsed)
