@@ -155,6 +155,28 @@ def rippled_patch(corner, a, b, normal, spans, amplitude):
     return {"nu": spans, "nv": spans, "control": np.array(control)}
 
 
+def test_the_default_cap_keeps_the_patch_tessellation_within_the_jobs_memory():
+    """Twelve rippling patches, each asking for the densest grid (200 x 200 cells, 80K
+    triangles): uncapped, near a million triangles; under the default cap at most 600K, the
+    tessellation and its tree about 63 MB, what the main job's 400 MB on a 30K-triangle part
+    leaves them (issue 22; at the old 1.2M cap an assembly's job peaked at 437 MB)."""
+    size = 10.0
+    surf = sw.from_shape(models.box(size))
+    h = size / 2
+    patches = []
+    for centre, a, b in CUBE_FACES:
+        c, a, b = (np.array(x, dtype=float) for x in (centre, a, b))
+        for half in (0.0, 0.5):    # two overlapping rippled patches per face
+            patches.append(rippled_patch(h + h * (c - a - b) + half * h * a, 1.5 * h * a, 2 * h * b, c, 12, 0.3))
+    tol = 1e-3 * size * math.sqrt(3)
+    wide = native.fit_deviation(surf, patches, tol, max_patch_triangles=4_000_000)
+    assert wide["patch_triangles"] > 800_000
+    default = native.fit_deviation(surf, patches, tol)
+    assert 400_000 < default["patch_triangles"] <= 600_000
+    assert default["measurement_error"] >= wide["measurement_error"]
+    assert abs(default["max_deviation"] - wide["max_deviation"]) <= default["measurement_error"]
+
+
 def test_patch_tessellation_is_capped_and_its_error_reported():
     """A rippling patch would need the densest grid (200 x 200 cells) for its chord of
     tolerance / 10; under max_patch_triangles the tessellation stays within the cap, the
