@@ -729,7 +729,7 @@ def test_an_area_no_single_strip_covers_gets_a_pair():
 
 def test_a_point_refused_as_a_region_seed_is_still_asked_as_the_uncovered_area_seed():
     """The farthest point from every loop is the largest region's seed and the uncovered
-    area's alike (the shared trj5 key: both at the tip of its bit). A colour seed's strip
+    area's alike (on the shared trj5 key, one point was both). A colour seed's strip
     must lower the score, an uncovered area's may keep it if it covers (with a pair where it
     leaves a red region): refused as the first, the point is still asked as the second, and
     only a refusal as the second skips it there."""

@@ -77,8 +77,8 @@ struct DeviationOptions {
   // The patch tessellation's triangles at most. With its AABB tree it takes
   // about 105 bytes a triangle (measured: halving a 1.2M cap lowered the
   // refit's peak by 62 MB), so 600K keeps it near 63 MB, within the main
-  // job's 400 MB on a 30K-triangle part (issue 22; at 1.2M a 618-face
-  // assembly's job peaked at 437 MB, in this measurement). Patches whose
+  // job's 400 MB on a 30K-triangle part (issue 22: a 618-face assembly's job
+  // peaked at 437 MB with a 1.2M cap, 379 MB with this one). Patches whose
   // chord would need more cells than their share get coarser grids, the
   // finest-needing first: the cap binds on networks with rippling patches
   // far off the source, and measurement_error grows with the chord they
