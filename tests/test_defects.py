@@ -175,6 +175,39 @@ def test_a_curve_curling_across_itself_leaves_a_dangling_edge_and_a_folded_patch
     assert [x["vertex"] for x in locations(L, "valence2")] == [tip]
 
 
+def test_the_patch_network_holds_only_the_edges_its_patches_have_as_sides():
+    """The curling curve's layout has a dangling edge (into the lobe, to a vertex of valence
+    1) and the patch folded around it; a straight curve across the curl's first leg adds a
+    patch that is a quad. The surfacing stage gets the patches that are quads, not the
+    folded one (its fit would fold), and only their sides: an edge
+    no patch has as a side is no seam, and one whose path is a single point (two primal
+    vertices on one refined vertex, seen on a range scan) stopped the refit ("network edge
+    has fewer than 2 points")."""
+    from test_regions import grid_sheet, trace
+    sheet = sw.from_mesh(*grid_sheet(20), target_triangles=0)
+    curl = trace(sheet, [(0, 3.3), (7.3, 3.3), (7.3, 7.3), (3.3, 7.3), (3.3, 0)])
+    across = trace(sheet, [(1.6, 0), (1.6, 10)])
+    L = layout_json(native.layout_of_paths(sheet, [curl, across], details=True))
+    net = native.network_of_paths(sheet, [curl, across])
+    sides = {e for p in net["patches"] for e in p["edges"]}
+    assert sides == set(range(len(net["edges"])))
+    assert all(len(e["points"]) >= 2 for e in net["edges"])
+    # The dangling edge is not handed over: fewer edges than the layout's.
+    ends = [0] * len(L["vertices"])
+    for e in L["edges"]:
+        for v in e["vertices"]:
+            ends[v] += 1
+    dangling = [e for e in L["edges"] if any(ends[v] == 1 for v in e["vertices"])]
+    assert dangling and len(net["edges"]) <= len(L["edges"]) - len(dangling)
+    folded = [p for p in L["patches"] if "non_quad" in p["defects"]]
+    assert folded and len(net["patches"]) == len(L["patches"]) - len(folded) >= 1
+    for p in net["patches"]:
+        for k in range(4):
+            e = net["edges"][p["edges"][k]]
+            start = e["points"][-1] if p["reversed"][k] else e["points"][0]
+            assert np.allclose(p["vertices"][p["corners"][k]], start)
+
+
 def test_one_vertex_torus_patch_is_a_quad():
     """The torus's meridian and equator give one patch whose four corners are one vertex: four
     sides, each a closed edge around the torus, so a quad layout of one patch (paper §2), clean."""

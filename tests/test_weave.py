@@ -1026,6 +1026,33 @@ def test_the_cuts_to_discs_are_two_per_handle_and_one_per_boundary_beyond_the_fi
     assert first_cuts(bored_plate(3)) == 6
 
 
+def test_one_round_of_red_queries_gives_a_cut_for_each_handle_it_found(monkeypatch):
+    """A plate with six bores (genus 6, twelve cuts): a round of red-region queries asks every
+    seed point and finds cuts of several handles; the cuts after the best one are added next
+    (_more_cuts), each kept only if the design derived with it lowers the red regions' genus
+    or badness again, before a new round asks again. So fewer rounds than red strips, every
+    red strip a cut, and the plate valid."""
+    import importlib
+    weave = importlib.import_module("stripweave.weave")
+    rounds = []
+    asked = weave._Weaver.candidates
+
+    def counted(self, points, alternatives, current, every_point=False):
+        if tuple(current[:2]) > (0, 0):           # a round of the red phase (genus, badness)
+            rounds.append(len(points))
+        return asked(self, points, alternatives, current, every_point)
+
+    monkeypatch.setattr(weave._Weaver, "candidates", counted)
+    ds = DesignSession(sw.from_shape(bored_plate(6), target_triangles=6000))
+    result = auto_weave(ds, WeaveOptions(colours=("red",), refine=False, take_back=False))
+    assert result.assessment["colours"]["red"] == 0 and result.assessment["valid"], result.stopped
+    red = [e for e in result.log if e["colour"] == "red"]
+    assert all(e["score_after"][:2] < e["score_before"][:2] for e in red)   # each one a cut
+    # Without the round's further cuts every red strip takes a round of its own.
+    assert len(rounds) < 0.75 * len(red), (len(rounds), len(red))
+    assert len(rounds) < 0.75 * len(red), (len(rounds), len(red))
+
+
 def test_a_part_of_high_genus_gets_the_red_work_its_handles_need():
     """The red phase's allowance grows with the cuts the topology asks for: with a budget whose
     fixed reserve (red_reserve budgets) a genus-4 plate outruns with two handles uncut, the

@@ -330,6 +330,20 @@ void bind_layout(py::module_& m, py::class_<DesignState, std::shared_ptr<DesignS
       py::arg("surface"), py::arg("paths"), py::arg("singular_vertices") = std::vector<Index>(),
       py::arg("quarter_indices") = std::vector<int>(), py::arg("details") = false,
       "layout() for loops given as embedded paths (as regions_of_paths; for tests and tools)");
+  m.def(
+      "network_of_paths",
+      [](const Surface& s, const std::vector<py::dict>& paths) {
+        std::vector<LoopPath> loops = paths_from_dicts(s, paths);
+        PatchNetwork net;
+        {
+          stripweave_python::NativeCall release;
+          const DesignLayout dl = layout_loops(s, loops, {}, true);
+          net = patch_network_of(s, dl.computed.arrangement, dl.layout);
+        }
+        return network_dict(net);
+      },
+      py::arg("surface"), py::arg("paths"),
+      "The patch network (as DesignState.patch_network) of loops given as embedded paths (for tests)");
   state.def(
       "layout_with",
       [](const DesignState& d, const std::vector<Loop>& extra, bool details, const std::vector<Index>& without,

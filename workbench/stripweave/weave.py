@@ -22,7 +22,10 @@ then farthest-point samples; ranked alternatives when those fail), scores each p
 by the assessment it would give, adds the best one, and rejects an addition that makes
 the assessment worse. Red regions take the best-scored, cheapest proposal over all their
 seed points (a cube's first seed point is a corner, and a belt through a corner leaves a
-180-degree patch corner). Where most of the part is an area no strip covers and every
+180-degree patch corner); the round's other proposals that cut are tried next, each kept
+only if the design derived with it lowers the red regions' genus or badness again, before
+a new round asks every seed point again (_more_cuts: a part with many handles took a round
+of queries per cut). Where most of the part is an area no strip covers and every
 loop proposed there leaves a red region (a key whose strips lie on its ring: a loop around
 the shaft cuts off its end), that loop is added with the red phase's loop that crosses the
 region it leaves, both or neither (_coverage_pair); while most of the part lies in no patch
@@ -1325,6 +1328,50 @@ def _record(ds, result, entry):
     result.log.append(entry)
 
 
+def _more_cuts(w, ds, options, rest, a, region, result, elapsed):
+    """Add the other cuts one round of red-region queries found, before a new round asks again.
+
+    Each round asks every seed point of the red region (candidates) and adds the best loop.
+    On a part with many handles (a casting, a plate with many bores) each of the others was
+    a cut too, mostly of another handle, and the next round finds them again at the same
+    points: every handle cost a round of queries at all the region's points, whose number
+    grows with the loops around it (a genus-15 NIST part: 10 to 16 queries, 70 to 160 units
+    a strip, and red regions left at its allowance after 12 of its 30 cuts). So the round's
+    other proposals that lowered the red regions' genus or badness (`rest`, best first) are
+    tried next, each at the cost of a derivation: a strip is added by its anchor, so the
+    design derives the loop through it in the design as it is now, and the strip is kept only
+    if that lowers the genus or badness again (a second cut of a handle already cut lowers
+    neither, and is removed), and only while red regions remain after it: the cut that makes
+    the design valid comes from a fresh round. The next round then asks only for what is
+    left.
+    Returns the assessment after the strips kept."""
+    for s, cost, loop, point, _ in rest:
+        if not a["colours"]["red"] or len(ds.design.strips) >= w.max_strips() or w.out_of_red_work(elapsed):
+            break
+        current = score(a)
+        index = w.add(loop, point)
+        if index is None:
+            continue
+        after = w.assess()
+        if not after["colours"]["red"]:
+            # The cut that completes validity sets the layout every later phase starts
+            # from: a fresh round chooses it, over all seed points of the design as it is now,
+            # by the whole score (a square ring made valid by the round's second loop kept
+            # a crease region the crease phase could not part; the fresh round's loop left
+            # one it could).
+            w.remove(index)
+            break
+        if score(after)[:2] >= current[:2]:
+            w.remove(index)
+            continue
+        _say(options, f"strip {index + 1}: red region {region}, the same round's next cut "
+                      f"(genus and badness {tuple(current[:2])} -> {tuple(score(after)[:2])})")
+        _record(ds, result, _entry(ds, index, "red region", region, "red", point, cost, elapsed,
+                                   score_before=list(current), score_after=list(score(after))))
+        a = after
+    return a
+
+
 def _coverage_pair(w, ds, options, a, candidate, elapsed, rescue):
     """Cover an area no single strip can: the loop proposed there, then the loop that makes
     the red region it leaves valid again (the red phase's choice: every seed point, ranked
@@ -1613,6 +1660,7 @@ def _weave(w, ds, options, start=None):
                       f"orange {a['colours']['orange']}, yellow {a['colours']['yellow']}, work {w.work:.0f}, "
                       f"{elapsed():.1f} s)")
         added = None
+        rest = []             # the round's candidates after the one added (_more_cuts)
         tried_real = False
         splitting = []        # uncovered area: proposals that would leave a red region
         rescue = _FitRescue(w, a) if colour == "uncovered" and valid else None
@@ -1627,7 +1675,7 @@ def _weave(w, ds, options, start=None):
             found = w.candidates(tried, alternatives, current, colour in ("red",) + COVERAGE)
             if colour == "uncovered":
                 splitting = [c for c in found if c[0][:2] > current[:2]]
-            for s, cost, loop, point, predicted in found:
+            for rank, (s, cost, loop, point, predicted) in enumerate(found):
                 improves = s < current
                 by_rescue = False     # tried only under the rescue: its work is coverage work
                 if colour == "red" and not improves and s[:2] <= current[:2] and stalls < 3:
@@ -1668,6 +1716,7 @@ def _weave(w, ds, options, start=None):
                 stalls = stalls + 1 if score(after)[:2] >= current[:2] and colour == "red" else 0
                 added = _entry(ds, index, reason, region, colour, point, cost, elapsed,
                                score_before=list(current), score_after=list(score(after)))
+                rest = [c for c in found[rank + 1:] if c[0][:2] < current[:2]]
                 a = after
                 break
             if added:
@@ -1687,6 +1736,9 @@ def _weave(w, ds, options, start=None):
         if added:
             _record(ds, result, added)
             w.axis_placed = w.axis_placed or added["reason"] == "beside the rotation's axis"
+            if colour == "red" and rest and a["colours"]["red"]:
+                a = _more_cuts(w, ds, options, rest, a, region, result, elapsed)
+                stalls = 0
             continue
         for p in points:      # nothing helped from this region's seeds: do not ask again
             skip.add(_coverage_key(p) if colour == "uncovered" else _key(p))

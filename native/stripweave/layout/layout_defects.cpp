@@ -97,10 +97,8 @@ struct Checker {
     for (int k = 0; k < 4; ++k) {
       if (patch.corners[k] == kInvalid || patch.edges[k] == kInvalid) return false;
       if (L.edges[patch.edges[k]].length < min_side) return false;
-      const int next = (k + 1) % 4;
-      if (patch.edges[next] == patch.edges[k] && patch.reversed[next] != patch.reversed[k]) return false;
     }
-    return true;
+    return !patch.folds_back();
   }
 
   // h: the mean solver edge (mean_edge), the resolution both shape rules use.

@@ -4,7 +4,11 @@
 //   as its own disc mesh (the refined triangles of the patch, with vertices
 //   split where the primal edges cut, so a vertex several corners share is
 //   one patch-mesh vertex per corner) and the B-rep face of each triangle.
-//   Patches that are not clean quads (QuadLayout::problems) are left out.
+//   Patches that are not clean quads (QuadLayout::problems), that fold back
+//   around a slit (PrimalPatch::folds_back), or one of whose sides is an edge
+//   of a single point, are left out, and so are the edges no
+//   handed-over patch has as a side (re-indexed: the network's edges are those
+//   of its patches, in the layout's order; its vertices are the layout's).
 #pragma once
 
 #include "stripweave/layout/quad_layout.h"

@@ -152,6 +152,15 @@ struct PrimalPatch {
   double crease_length = 0;
   // Over a crease: more than kCreasedPatchLength of it inside (creases.h).
   bool creased() const { return crease_length > kCreasedPatchLength; }
+  // A side comes straight back along the side before it (the same edge, run
+  // the other way): the patch folds around a slit, no quad (layout_defects.h).
+  bool folds_back() const {
+    for (int k = 0; k < 4; ++k) {
+      const int next = (k + 1) % 4;
+      if (edges[next] != kInvalid && edges[next] == edges[k] && reversed[next] != reversed[k]) return true;
+    }
+    return false;
+  }
 };
 
 struct QuadLayout {
