@@ -1050,7 +1050,6 @@ def test_one_round_of_red_queries_gives_a_cut_for_each_handle_it_found(monkeypat
     assert all(e["score_after"][:2] < e["score_before"][:2] for e in red)   # each one a cut
     # Without the round's further cuts every red strip takes a round of its own.
     assert len(rounds) < 0.75 * len(red), (len(rounds), len(red))
-    assert len(rounds) < 0.75 * len(red), (len(rounds), len(red))
 
 
 def test_a_part_of_high_genus_gets_the_red_work_its_handles_need():

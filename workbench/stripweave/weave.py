@@ -1345,7 +1345,7 @@ def _more_cuts(w, ds, options, rest, a, region, result, elapsed):
     the design valid comes from a fresh round. The next round then asks only for what is
     left.
     Returns the assessment after the strips kept."""
-    for s, cost, loop, point, _ in rest:
+    for _, cost, loop, point, _ in rest:
         if not a["colours"]["red"] or len(ds.design.strips) >= w.max_strips() or w.out_of_red_work(elapsed):
             break
         current = score(a)
@@ -1353,6 +1353,7 @@ def _more_cuts(w, ds, options, rest, a, region, result, elapsed):
         if index is None:
             continue
         after = w.assess()
+        now = score(after)
         if not after["colours"]["red"]:
             # The cut that completes validity sets the layout every later phase starts
             # from: a fresh round chooses it, over all seed points of the design as it is now,
@@ -1361,13 +1362,13 @@ def _more_cuts(w, ds, options, rest, a, region, result, elapsed):
             # one it could).
             w.remove(index)
             break
-        if score(after)[:2] >= current[:2]:
+        if now[:2] >= current[:2]:
             w.remove(index)
             continue
         _say(options, f"strip {index + 1}: red region {region}, the same round's next cut "
-                      f"(genus and badness {tuple(current[:2])} -> {tuple(score(after)[:2])})")
+                      f"(genus and badness {tuple(current[:2])} -> {tuple(now[:2])})")
         _record(ds, result, _entry(ds, index, "red region", region, "red", point, cost, elapsed,
-                                   score_before=list(current), score_after=list(score(after))))
+                                   score_before=list(current), score_after=list(now)))
         a = after
     return a
 
