@@ -295,6 +295,33 @@ def test_boss_on_a_plate_conforms_with_its_rims_on_primal_edges():
     assert sorted(round(float(np.asarray(c)[0, 2])) for c in rims) == [4, 10]
 
 
+@pytest.mark.parametrize("part", ["pocket", "two bosses"])
+def test_a_closed_crease_no_single_loop_parts_is_parted_by_a_pair_of_crossing_loops(part):
+    """A square pocket in a block, and two cylinder bosses on a plate: each rim is a closed
+    crease, and the region around it holds the whole feature. One loop across it leaves each
+    half of the rim with both exits on that loop's one arc, and the loop round its wall
+    crosses nothing there (an annulus, red), so no single loop lowers the crease excess and
+    the crease phase stopped with crease regions left (one, and two). Predicted together, a
+    pair of the region's loops parts it (crease_pairs, off by default): the layout ends
+    crease-conforming, and the pocket's clean (the bosses' keeps thin patches beside the pair's
+    loops: degenerate, not creased)."""
+    if part == "pocket":
+        shape = Part.makeBox(40, 40, 8).cut(Part.makeBox(14, 14, 4, Vector(13, 13, 4)))
+    else:
+        shape = Part.makeBox(60, 30, 4).fuse(Part.makeCylinder(5, 5, Vector(15, 15, 4))) \
+            .fuse(Part.makeCylinder(5, 5, Vector(45, 15, 4)))
+    surface = sw.from_shape(shape.removeSplitter(), target_triangles=15000)
+    ds = DesignSession(surface, Design())
+    result = auto_weave(ds, WeaveOptions(crease_pairs=True))
+    assert any(e["reason"] == "crease region (a pair)" for e in result.log)
+    assert result.assessment["colours"]["red"] == 0
+    assert result.assessment["colours"]["crease"] == 0
+    L = compute_layout(ds)
+    assert L["clean"] or part != "pocket"
+    assert_conforming(L)
+    assert_creases_on_edges(surface, L)
+
+
 def test_chamfer_creases_on_primal_edges_and_fillet_tangents_are_no_creases():
     """A box of edge 20 with its bottom front edge chamfered (3) and its back right vertical edge
     filleted (radius 4). The chamfer's two creases end in four crease junctions; three belts

@@ -199,7 +199,8 @@ def cmd_weave(args):
                    step=args.step, verbose=True, target_triangles=args.target_triangles,
                    feature_angle_deg=args.feature_angle,
                    budget=args.budget, time_limit_s=args.time_limit if args.time_limit > 0 else float("inf"),
-                   symmetry=args.symmetry, symmetry_tolerance=args.symmetry_tolerance)
+                   symmetry=args.symmetry, symmetry_tolerance=args.symmetry_tolerance,
+                   crease_pairs=args.crease_pairs)
     report = {k: v for k, v in result.items() if k not in ("surface", "design", "log", "why_red", "why_crease")}
     if args.json:
         print(json.dumps(report))
@@ -244,6 +245,8 @@ def cmd_batch(args):
         weave_args += ["--max-strips", str(args.max_strips)]
     if args.weave_time_limit is not None:
         weave_args += ["--time-limit", f"{args.weave_time_limit:g}"]
+    if args.crease_pairs:
+        weave_args += ["--crease-pairs"]
     if args.feature_angle is not None:
         weave_args += ["--feature-angle", f"{args.feature_angle:g}"]
     if args.boundary is not None:
@@ -341,6 +344,9 @@ def build_parser():
     p.add_argument("--time-limit", type=float, default=WeaveOptions.time_limit_s, metavar="S",
                    help="wall-clock safety net: seconds of weaving after which only red regions are worked on "
                         f"(default {WeaveOptions.time_limit_s:g}, not reached on the shared models; 0: none)")
+    p.add_argument("--crease-pairs", action="store_true",
+                   help="where no single loop parts a crease region (a pocket's or a boss's rim), try pairs of "
+                        "crossing loops, after the single loops everywhere (default: off; README)")
     p.add_argument("--json", action="store_true", help="print report.json's content (plus paths) on stdout")
     _add_symmetry_options(p, None, "weave symmetrically, every added strip with its images (default: the "
                                    "design's symmetry, else none)")
@@ -368,6 +374,7 @@ def build_parser():
     p.add_argument("--weave-time-limit", type=float, default=None, metavar="S",
                    help="weave's --time-limit (its wall-clock safety net for weaving)")
     p.add_argument("--budget", type=float, default=WeaveOptions.budget, metavar="UNITS", help="weave's --budget")
+    p.add_argument("--crease-pairs", action="store_true", help="weave's --crease-pairs")
     p.add_argument("--max-strips", type=int, default=None, help="weave's --max-strips")
     p.add_argument("--patches", type=int, default=0, metavar="N", help="weave's --patches")
     p.add_argument("--no-features", action="store_true", help="weave's --no-features")

@@ -150,6 +150,10 @@ class WeaveOptions:
     refine_query_polls: int = 100   # ... its loop queries stopped past this work (0: query_polls)
     refine_candidates: int = 2      # ... predicting this many candidate strips per added one, the best derived
     take_back: bool = True          # last, take back added strips the layout is cleaner without (_take_back)
+    crease_pairs: bool = False      # crease regions no single loop parts get pairs of crossing loops once
+                                    # every one was asked for one (_crease_pair): a pocket's or a boss's
+                                    # rim; off by default, as on the shared models the pairs' work came
+                                    # out of the colour phases (README, "pairs of loops")
     take_back_share: float = 1.0    # ... spending at most this share of the budget on it
     query_polls: int = 400          # a loop query doing more work is stopped (no proposal there; 0: no cap)
     seed_directions: str = "adaptive"   # at a seed point: "all" (the best loop over all directions, the
@@ -441,6 +445,7 @@ def _say(options, text):
 WORK_QUERY, WORK_PER_POLL, WORK_ASSESS, WORK_DERIVE, WORK_LAYOUT, WORK_RESTORE = 0.5, 0.04, 0.5, 4.0, 1.0, 0.0
 WORK_PREDICT = 1.5    # a layout with its regions' assessment (about 0.1 s on a 30K-triangle part)
 WORK_PER_TARGET_PATCH = 5.0   # the budget a patch target gets at least, per patch asked for
+CREASE_PAIR_LOOPS = 6         # loops a crease region's pairs are drawn from (_crease_pair: 15 pairs)
 STRIPS_BEYOND_CUTS = 40       # the default strip cap past the cuts the topology asks for (the old fixed cap)
 
 
@@ -1373,6 +1378,62 @@ def _more_cuts(w, ds, options, rest, a, region, result, elapsed):
     return a
 
 
+def _crease_pair(w, ds, options, a, points, found, region, elapsed):
+    """Part a crease region by two loops where no single loop does: a crease cycle (the rim
+    of a boss, a bore or a pocket) has to be crossed by loops that cross each other.
+
+    One loop across a closed crease leaves each half of it with both exits on that loop's one
+    arc (the crease excess stays or rises), and the loop between two crease cycles (round a
+    boss's wall, between its top rim and its base) crosses nothing there, so it leaves an
+    annulus, a red region. Together they part it: the ring cuts the crossing loop's arc
+    between the exits, the crossing loop makes the ring's sides a disc. So the loops of the
+    round (`found`, one per seed point) and the loops of both families at the region's crease
+    seed (its principal directions: around and across the bridge between two pieces) are
+    predicted in pairs (two extra loops in one assessment, no derivation), and the best pair
+    that lowers the score is added, first loop first; both are removed unless the re-derived
+    design is valid and lowers the score as predicted.
+    Returns ([the two log entries], the assessment after them), or None."""
+    current = score(a)
+    pool = [(c[2], c[3], c[1], c[4]["crossings"]) for c in found]
+    for loop in w._along_principal_directions(list(points[0])[:3]):
+        pool.append((loop, points[0], loop.cost, None))
+    seen, loops = set(), []
+    for loop, point, cost, crossings in pool[:CREASE_PAIR_LOOPS]:
+        if _loop_key(loop) not in seen:
+            seen.add(_loop_key(loop))
+            if crossings is None:
+                crossings = w.assess([loop], seeds=False)["crossings"]
+            loops.append((loop, point, cost, crossings))
+    best = None
+    for i in range(len(loops)):
+        for j in range(i + 1, len(loops)):
+            pa = w.assess([loops[i][0], loops[j][0]], seeds=False)
+            s = score(pa)
+            # Only loops that cross each other (more crossings than each brings alone): two
+            # of one family run side by side, and the design refuses the second where it
+            # runs along the first (a loop's direction is disabled beside a strip's, §6.2).
+            crossing = pa["crossings"] > loops[i][3] + loops[j][3] - a["crossings"]
+            if crossing and s[:2] <= current[:2] and s < current and (best is None or s < best[0]):
+                best = (s, i, j)
+    if best is None:
+        return None
+    added = []
+    for k in best[1:]:
+        index = w.add(loops[k][0], loops[k][1])
+        if index is None:
+            break
+        added.append(index)
+    after = w.assess() if len(added) == 2 else None
+    if after is None or after["colours"]["red"] or score(after) >= current:
+        for index in reversed(added):
+            w.remove(index)
+        return None
+    _say(options, f"  crease region {region} parted by a pair: strips {added[0] + 1} and {added[1] + 1}")
+    scores = {"score_before": list(current), "score_after": list(score(after))}
+    return [_entry(ds, index, "crease region (a pair)", region, "crease", loops[k][1], loops[k][2], elapsed,
+                   **scores) for index, k in zip(added, best[1:])], after
+
+
 def _coverage_pair(w, ds, options, a, candidate, elapsed, rescue):
     """Cover an area no single strip can: the loop proposed there, then the loop that makes
     the red region it leaves valid again (the red phase's choice: every seed point, ranked
@@ -1581,6 +1642,8 @@ def _weave(w, ds, options, start=None):
     a = w.assess()
     w.count_cuts(a)
     skip = set()          # seed points that gave nothing useful
+    crease_skipped = set()   # ... of them, the crease regions' (asked again with pairs)
+    pairs = False         # crease regions get pairs of loops (_crease_pair) once singles ran out
     stalls = 0            # consecutive red-phase additions that did not lower the score
 
     def elapsed():
@@ -1649,6 +1712,16 @@ def _weave(w, ds, options, start=None):
             skip.clear()
             stalls = 0
             continue
+        if valid and options.crease_pairs and not pairs and a["colours"]["crease"] and "crease" in options.colours and \
+                not any(x[2] == "crease" for x in seeds):
+            # Every crease region's seed points were asked for one loop: now for two
+            # (_crease_pair), after the single loops everywhere, as a pair costs what two
+            # or three single strips do (a plate with three bores under a small budget spent
+            # it on one region's pair, and the single loops that part two others never came).
+            pairs = True
+            skip -= crease_skipped
+            _say(options, "crease regions remain: their seed points once more, with pairs of loops")
+            continue
         if not seeds:
             colours_left = sum(1 for r in a["regions"] for c in ("crease", "orange", "yellow")
                                if c in options.colours and shows(r, c))
@@ -1664,6 +1737,7 @@ def _weave(w, ds, options, start=None):
         rest = []             # the round's candidates after the one added (_more_cuts)
         tried_real = False
         splitting = []        # uncovered area: proposals that would leave a red region
+        found = []            # the last round's candidates (_crease_pair)
         rescue = _FitRescue(w, a) if colour == "uncovered" and valid else None
         spent_before = w.spent_now()   # what this seed costs (coverage_spent)
         # Ranked alternatives (slow: a second search per rank) and both families of loops only
@@ -1722,6 +1796,14 @@ def _weave(w, ds, options, start=None):
                 break
             if added:
                 break
+        if not added and pairs and colour == "crease" and valid and found and \
+                len(ds.design.strips) + 2 <= w.max_strips() and not w.out_of_work(elapsed):
+            pair = _crease_pair(w, ds, options, a, points, found, region, elapsed)
+            if pair is not None:
+                entries, a = pair
+                for entry in entries:
+                    _record(ds, result, entry)
+                continue
         if not added and splitting and valid and _mostly_uncovered(a):
             # Only where no strip reaches most of the part: elsewhere the single strips that
             # cover have been found, and a pair tried and taken back spends work refinement
@@ -1743,6 +1825,8 @@ def _weave(w, ds, options, start=None):
             continue
         for p in points:      # nothing helped from this region's seeds: do not ask again
             skip.add(_coverage_key(p) if colour == "uncovered" else _key(p))
+            if colour == "crease":
+                crease_skipped.add(_key(p))
 
     if options.refine and a["colours"]["red"] == 0 and result.stopped in ("done", "no seed helps"):
         a = _refine(w, ds, options, a, result, elapsed)
