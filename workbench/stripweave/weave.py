@@ -25,9 +25,12 @@ seed points (a cube's first seed point is a corner, and a belt through a corner 
 180-degree patch corner); the round's other proposals that cut are tried next, each kept
 only if the design derived with it lowers the red regions' genus or badness again, before
 a new round asks every seed point again (_more_cuts: a part with many handles took a round
-of queries per cut). Where most of the part is an area no strip covers and every
-loop proposed there leaves a red region (a key whose strips lie on its ring: a loop around
-the shaft cuts off its end), that loop is added with the red phase's loop that crosses the
+of queries per cut). With crease_pairs, once every crease region was asked for one loop,
+those no single loop parts are asked for two that cross each other (_crease_pair: a rim
+needs a loop across it and one round the feature's wall, and neither helps alone).
+Where most of the part is an area no strip covers and every loop proposed there leaves
+a red region (a key whose strips lie on its ring: a loop around the shaft cuts off its
+end), that loop is added with the red phase's loop that crosses the
 region it leaves, both or neither (_coverage_pair); while most of the part lies in no patch
 the refit takes (a quad), a strip or pair there may raise the crease excess if it brings more
 of the part into such patches (_FitRescue: a loop along a shaft crosses every crease ringing
@@ -150,11 +153,11 @@ class WeaveOptions:
     refine_query_polls: int = 100   # ... its loop queries stopped past this work (0: query_polls)
     refine_candidates: int = 2      # ... predicting this many candidate strips per added one, the best derived
     take_back: bool = True          # last, take back added strips the layout is cleaner without (_take_back)
+    take_back_share: float = 1.0    # ... spending at most this share of the budget on it
     crease_pairs: bool = False      # crease regions no single loop parts get pairs of crossing loops once
                                     # every one was asked for one (_crease_pair): a pocket's or a boss's
                                     # rim; off by default, as on the shared models the pairs' work came
                                     # out of the colour phases (README, "pairs of loops")
-    take_back_share: float = 1.0    # ... spending at most this share of the budget on it
     query_polls: int = 400          # a loop query doing more work is stopped (no proposal there; 0: no cap)
     seed_directions: str = "adaptive"   # at a seed point: "all" (the best loop over all directions, the
                                     # principal directions where it gives none), "principal" (the loops
