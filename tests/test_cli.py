@@ -169,3 +169,25 @@ def test_loop_bad_anchor(torus_step):
     assert p.returncode != 0 and "off the part" in p.stderr
     p = run("loop", torus_step, "--anchor", "13,0", "--target-triangles", "4000")
     assert p.returncode != 0 and "X,Y,Z" in p.stderr
+
+
+def test_weave_crease_pairs_flag_reaches_the_weave(tmp_path):
+    """`--crease-pairs` (off by default) gives a square pocket's rim the pair of crossing loops no
+    single loop replaces: with it the layout is crease-conforming and design.json says which
+    strips came as a pair; without it a crease region is left (weave._crease_pair)."""
+    import FreeCAD  # noqa: F401  (before Part)
+    import Part
+    path = str(tmp_path / "pocket.step")
+    Part.makeBox(40, 40, 8).cut(Part.makeBox(14, 14, 4, FreeCAD.Vector(13, 13, 4))).removeSplitter().exportStep(path)
+    reports = {}
+    for flag in ([], ["--crease-pairs"]):
+        out = str(tmp_path / ("pairs" if flag else "single"))
+        r = run("weave", path, "--auto", "--target-triangles", "15000", "--out", out, "--json", *flag)
+        assert r.returncode == 0, r.stderr
+        design = json.load(open(os.path.join(out, "design.json")))
+        reasons = [s.get("added_by", {}).get("reason") for s in design["strips"]]
+        reports[bool(flag)] = (json.loads(r.stdout.strip().splitlines()[-1]), reasons)
+    (single, single_reasons), (pairs, pair_reasons) = reports[False], reports[True]
+    assert "crease region (a pair)" not in single_reasons and not single["crease_conforming"]
+    assert pair_reasons.count("crease region (a pair)") == 2
+    assert pairs["crease_conforming"] and pairs["clean"]
