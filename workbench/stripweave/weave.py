@@ -704,15 +704,17 @@ class _Weaver:
         if order == "all" or (order == "adaptive" and not self.capped_all_directions):
             found = self._proposals(point, alternatives)
             if found and both_families:
-                return _distinct(found + self._along_principal_directions(point))
+                return _distinct(found + self.along_principal_directions(point))
             if found or not self.session.query_limited:
-                return found or self._along_principal_directions(point)
+                return found or self.along_principal_directions(point)
             self.capped_all_directions = True
-            return self._along_principal_directions(point)
-        found = self._along_principal_directions(point)
+            return self.along_principal_directions(point)
+        found = self.along_principal_directions(point)
         return found or self._proposals(point, alternatives)
 
-    def _along_principal_directions(self, point):
+    def along_principal_directions(self, point):
+        """The best loops along the point's two principal directions (one of each family of
+        good loops, §5 criterion 1), cheapest first."""
         found = []
         for anchor in native.principal_anchors(self.ds.surface, list(point)):
             found += self._proposals(anchor, 1)
@@ -1398,15 +1400,13 @@ def _crease_pair(w, ds, options, a, points, found, region, elapsed):
     Returns ([the two log entries], the assessment after them), or None."""
     current = score(a)
     pool = [(c[2], c[3], c[1], c[4]["crossings"]) for c in found]
-    for loop in w._along_principal_directions(list(points[0])[:3]):
+    for loop in w.along_principal_directions(list(points[0])[:3]):
         pool.append((loop, points[0], loop.cost, None))
-    seen, loops = set(), []
-    for loop, point, cost, crossings in pool[:CREASE_PAIR_LOOPS]:
-        if _loop_key(loop) not in seen:
-            seen.add(_loop_key(loop))
-            if crossings is None:
-                crossings = w.assess([loop], seeds=False)["crossings"]
-            loops.append((loop, point, cost, crossings))
+    firsts = {}           # one entry per loop (_loop_key), the first one found
+    for entry in pool[:CREASE_PAIR_LOOPS]:
+        firsts.setdefault(_loop_key(entry[0]), entry)
+    loops = [(loop, point, cost, w.assess([loop], seeds=False)["crossings"] if crossings is None else crossings)
+             for loop, point, cost, crossings in firsts.values()]
     best = None
     for i in range(len(loops)):
         for j in range(i + 1, len(loops)):
@@ -1427,12 +1427,13 @@ def _crease_pair(w, ds, options, a, points, found, region, elapsed):
             break
         added.append(index)
     after = w.assess() if len(added) == 2 else None
-    if after is None or after["colours"]["red"] or score(after) >= current:
+    now = score(after) if after is not None else None
+    if after is None or after["colours"]["red"] or now >= current:
         for index in reversed(added):
             w.remove(index)
         return None
     _say(options, f"  crease region {region} parted by a pair: strips {added[0] + 1} and {added[1] + 1}")
-    scores = {"score_before": list(current), "score_after": list(score(after))}
+    scores = {"score_before": list(current), "score_after": list(now)}
     return [_entry(ds, index, "crease region (a pair)", region, "crease", loops[k][1], loops[k][2], elapsed,
                    **scores) for index, k in zip(added, best[1:])], after
 
