@@ -95,6 +95,7 @@ void put_region_keys(py::dict& d, const Region& r, double scale2) {
   d["excess_extrema"] = r.excess_extrema;
   d["crease_problem"] = crease_problem_name(r.crease_problem);
   d["crease_excess"] = r.crease_excess;
+  d["crease_rim_lack"] = r.crease_rim_lack;
   d["set_aside"] = r.set_aside;
 }
 

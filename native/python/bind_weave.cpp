@@ -26,8 +26,11 @@
 //               (weave_seeds.h);
 //               "excess_extrema", "crease_problem", and for a crease region
 //               "crease_seed" [x,y,z] (crease_structure.h: where a loop
-//               across the crease would resolve it) and "crease_seed_across"
-//               [dx,dy,dz] (the direction across the crease there; zero if none)
+//               across the crease would resolve it; where a rim of the
+//               region lacks crossings and it has no other problem,
+//               crease_rims.h, the rim's seed) and "crease_seed_across"
+//               [dx,dy,dz] (the direction across the crease there; zero if
+//               none); "crease_rim_lack" (bind_regions.cpp)
 //     valid, crossings, arcs, colours {"red","orange","yellow","crease","none"}
 //     uncovered {"found", "area", "largest_area", "surface_area", "point",
 //                "clearance"}: what no strip covers (the design's strips only)
@@ -112,10 +115,13 @@ void bind_weave(py::module_& m) {
           for (Index k : g.singularities) quarters.push_back(d.field().singularities[k].quarter_index);
           x["singularity_quarters"] = quarters;
           // Where a loop across the crease would resolve a crease region (crease_structure.h).
-          const Index split = regions.creases.regions[r].split_vertex;
+          // A region whose only problem is a rim short of crossings has the rim's seed.
+          const RegionCreases& rc = regions.creases.regions[r];
+          const bool rim = rc.problem == CreaseProblem::None && rc.rim_lack > 0 && rc.rim_seed != kInvalid;
+          const Index split = rim ? rc.rim_seed : rc.split_vertex;
           if (g.crease_problem != CreaseProblem::None && split != kInvalid) {
             x["crease_seed"] = model_point(s, arrangement.mesh.positions[split]);
-            const Vec3& across = regions.creases.regions[r].split_across;   // the similarity only scales
+            const Vec3& across = rim ? rc.rim_across : rc.split_across;   // the similarity only scales
             x["crease_seed_across"] = std::vector<double>{across.x(), across.y(), across.z()};
           }
           py::list pts, clear;

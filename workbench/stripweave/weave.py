@@ -25,9 +25,13 @@ seed points (a cube's first seed point is a corner, and a belt through a corner 
 180-degree patch corner); the round's other proposals that cut are tried next, each kept
 only if the design derived with it lowers the red regions' genus or badness again, before
 a new round asks every seed point again (_more_cuts: a part with many handles took a round
-of queries per cut). With crease_pairs, once every crease region was asked for one loop,
-those no single loop parts are asked for two that cross each other (_crease_pair: a rim
-needs a loop across it and one round the feature's wall, and neither helps alone).
+of queries per cut). Once every crease region was asked for one loop, if the part's rims
+(closed creases with no junction) lack crossings, the score counts that lack before the crease
+excess and the crease seeds are asked once more (rim_lack, crease_rims.h: a loop across a rim
+raises the excess until others part its pieces, so the excess alone never crosses one). With
+crease_pairs, those no single loop parts are then asked for two that cross each other
+(_crease_pair: a rim needs a loop across it and one round the feature's wall, and neither
+helps alone).
 Where most of the part is an area no strip covers and every loop proposed there leaves
 a red region (a key whose strips lie on its ring: a loop around the shaft cuts off its
 end), that loop is added with the red phase's loop that crosses the
@@ -267,8 +271,22 @@ def score(a):
     # Then the crease regions (issue 17), by how far each is from carrying its creases
     # (crease_excess: nodes, pieces and exits beyond one...), which every loop that
     # separates two crease junctions lowers, where the count of crease regions may not.
-    crease = sum(r["crease_excess"] for r in a["regions"])
+    # Before the excess, the crossings the rims lack (crease_rims.h): a loop across a rim
+    # raises the excess (the rim's pieces count until further loops part them) and is still
+    # a loop every conforming layout has, so counted by excess alone no rim is crossed.
+    crease = (rim_lack(a), sum(r["crease_excess"] for r in a["regions"]))
     return (genus, badness, patchless(a), crease, open_stretches(a), colour_flaws(a))
+
+
+def rim_lack(a):
+    """The loop crossings the part's rims (closed creases with no junction: around a bore, a
+    boss) lack to carry primal vertices and edges, 2 each (crease_rims.h), counted once the
+    crease phase stalled (_Weaver.rims_counted; 0 before). A loop across a rim raises the crease
+    excess (the rim's pieces count until further loops part them), yet every conforming layout
+    has such loops: counted by the excess alone, a boss on a plate kept a crease region around
+    both its rims. Counted from the start, the lack also outranked the excess where the excess
+    was finding a way of its own (a plate with a bore: clean with 11 strips, with 18 not)."""
+    return sum(r.get("crease_rim_lack", 0) for r in a["regions"]) if a.get("rims_counted") else 0
 
 
 def patchless(a):
@@ -465,6 +483,8 @@ class _Weaver:
         self.coverage_spent = (0.0, 0.0)  # (work, seconds) of valid designs' COVERAGE strips (quality_work)
         self.cuts = None            # cuts the red regions of the first assessment need (red_allowance)
         self.looking_harder = False  # red regions ran out of seed points once (_weave)
+        self.rims_counted = False   # the crease phase stalled with rims lacking crossings: score()
+                                    # counts their lack from then on (rim_lack, _weave)
         self.red_again = None       # why the other colours stopped, once the red seed points were
                                     # asked once more at the end (_weave)
         self.user_strips = len(ds.design.strips)
@@ -593,7 +613,9 @@ class _Weaver:
     def assess(self, extra=(), seeds=True):
         self.check_cancel()
         self.spend("assess", WORK_ASSESS)
-        return native.weave_assessment(self.ds.native, list(extra), self.options.seeds_per_region if seeds else 0)
+        a = native.weave_assessment(self.ds.native, list(extra), self.options.seeds_per_region if seeds else 0)
+        a["rims_counted"] = self.rims_counted
+        return a
 
     def quality(self, a, layout, base_flaws=None):
         """What additions past validity lower: the real layout's mean corner deviation, plus
@@ -614,7 +636,7 @@ class _Weaver:
         self.check_cancel()
         self.spend("predict", WORK_PREDICT)
         layout = self.ds.native.layout_with([loop])
-        return layout, _assessment_of(layout)
+        return layout, _assessment_of(layout, self.rims_counted)
 
     def predict_without(self, index):
         """predict() of taking strip `index` back: the other loops under the design's current
@@ -622,7 +644,7 @@ class _Weaver:
         self.check_cancel()
         self.spend("predict", WORK_PREDICT)
         layout = self.ds.native.layout_with([], without=[index])
-        return layout, _assessment_of(layout)
+        return layout, _assessment_of(layout, self.rims_counted)
 
     def layout(self):
         self.check_cancel()
@@ -793,15 +815,16 @@ class _Weaver:
         return index
 
 
-def _assessment_of(layout):
+def _assessment_of(layout, rims_counted=False):
     """What score() and flaws() read of weave_assessment (without seeds), from the regions of
     a layout: the same arrangement and singularities, computed once (a prediction built the
-    arrangement twice, a fifth of its time)."""
+    arrangement twice, a fifth of its time). `rims_counted`: as _Weaver.rims_counted."""
     regions = [{**r, "singularities": len(r["singularities"])} for r in layout["regions"]]
     colours = dict.fromkeys(("red", "crease", "orange", "yellow", "none"), 0)
     for r in regions:
         colours[r["colour"]] += 1
-    return {"regions": regions, "colours": colours, "valid": layout["valid"], "crossings": layout["crossings"]}
+    return {"regions": regions, "colours": colours, "valid": layout["valid"], "crossings": layout["crossings"],
+            "rims_counted": rims_counted}
 
 
 def _distinct(loops):
@@ -1715,6 +1738,18 @@ def _weave(w, ds, options, start=None):
             _say(options, "red regions remain and the other colours are done: their seed points once more")
             skip.clear()
             stalls = 0
+            continue
+        if valid and not w.rims_counted and a["colours"]["crease"] and "crease" in options.colours and \
+                not any(x[2] == "crease" for x in seeds) and any(r.get("crease_rim_lack") for r in a["regions"]):
+            # Every crease region's seed points were asked for one loop, and rims still lack
+            # crossings: from now on score() counts that lack before the excess (rim_lack), so
+            # a loop across a rim is taken where it raises the excess, and the crease regions'
+            # seeds are asked once more (one whose only problem is such a rim seeds on it).
+            w.rims_counted = True
+            skip -= crease_skipped
+            a = w.assess()
+            _say(options, f"crease regions remain and rims lack {rim_lack(a)} crossings: their seeds once more, "
+                          f"rims counted first")
             continue
         if valid and options.crease_pairs and not pairs and a["colours"]["crease"] and "crease" in options.colours and \
                 not any(x[2] == "crease" for x in seeds):

@@ -1,6 +1,7 @@
 // The crease structure of the regions (see the header).
 #include "stripweave/layout/crease_structure.h"
 
+#include "stripweave/layout/crease_rims.h"
 #include "stripweave/layout/region_bridges.h"
 
 #include <algorithm>
@@ -310,6 +311,7 @@ const char* crease_problem_name(CreaseProblem problem) {
     case CreaseProblem::OnCrossing: return "loop crossing on a crease";
     case CreaseProblem::AlongLoop: return "loop along a crease";
     case CreaseProblem::BoundaryApart: return "crease apart from the boundary";
+    case CreaseProblem::RimUncrossed: return "closed crease crossed fewer than twice";
     default: return "none";
   }
 }
@@ -341,6 +343,12 @@ CreaseStructure crease_structure(const Surface& s, const LoopArrangement& A, con
   if (!analysis.to_part.empty()) analysis.split_regions_to_part();
   for (Index& x : out.arc_exit)
     if (x == Analysis::kNoExit) x = kInvalid;
+  for (const CreaseRim& rim : crease_rims(A, out.refined_crease, triangle_region)) {
+    if (rim.lack == 0 || rim.region == kInvalid) continue;
+    RegionCreases& rc = out.regions[rim.region];
+    rc.rim_lack += rim.lack;
+    if (rc.rim_seed == kInvalid) rc.rim_seed = rim.seed, rc.rim_across = rim.across;
+  }
   return out;
 }
 

@@ -34,7 +34,9 @@
 //           it can), its node (refined vertex, or kInvalid) and whether it
 //           holds crease pieces, and for a region with a problem the point
 //           where a loop crossing the crease would resolve it (split_vertex:
-//           automatic weaving seeds there); per arc the refined vertex where a crease
+//           automatic weaving seeds there); the rims' lack of crossings
+//           and their seeds, each at the region its seed lies in
+//           (crease_rims.h); per arc the refined vertex where a crease
 //           exits across it (kInvalid if none, or if several); per refined
 //           edge whether it is a crease.
 //   Cost  : linear in the refined mesh.
@@ -55,6 +57,8 @@ enum class CreaseProblem : std::uint8_t {
   OnCrossing,     // a loop crossing lies on a crease
   AlongLoop,      // a loop runs along a crease
   BoundaryApart,  // the region touches the boundary, its crease does not
+  RimUncrossed,   // a rim whose seed lies in the region is crossed fewer than twice (crease_rims.h);
+                  // Region::crease_problem only, where the star test finds none
 };
 
 // "two crease nodes", "crease pieces apart", ... (a phrase for messages and JSON).
@@ -81,6 +85,12 @@ struct RegionCreases {
   // crossing or a loop along the crease and for a crease apart from the
   // boundary. 0 iff problem is None.
   int excess = 0;
+  // The crossings the rims lack whose seed lies in the region (crease_rims.h;
+  // a rim's lack counts once, at its seed), and that seed: where a loop
+  // across the rim, leaving along rim_across, adds crossings.
+  int rim_lack = 0;
+  Index rim_seed = kInvalid;
+  Vec3 rim_across = Vec3::Zero();
 };
 
 struct CreaseStructure {

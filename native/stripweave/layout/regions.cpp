@@ -169,8 +169,13 @@ Regions compute_regions(const Surface& s, const LoopArrangement& A, const std::v
     std::vector<int> quarters;
     for (Index i : r.singularities) quarters.push_back(singularities[i].quarter_index);
     r.excess_extrema = excess_extrema(quarters);
-    r.crease_problem = out.creases.regions[k].problem;
-    r.crease_excess = out.creases.regions[k].excess;
+    const RegionCreases& rc = out.creases.regions[k];
+    // A rim crossed too seldom keeps the region from conforming even where its star test passes.
+    r.crease_problem = rc.problem != CreaseProblem::None ? rc.problem
+                       : rc.rim_lack > 0                 ? CreaseProblem::RimUncrossed
+                                                         : CreaseProblem::None;
+    r.crease_excess = rc.excess;
+    r.crease_rim_lack = rc.rim_lack;
     r.colour = assess_region(r.disc, r.crease_problem != CreaseProblem::None, r.excess_extrema, r.valence,
                              r.total_curvature);
     out.valid &= r.set_aside || r.colour != RegionColour::Red;

@@ -97,6 +97,7 @@ struct Region {
   int excess_extrema = 0;            // curvature extrema of one kind beyond the first (assessment.h)
   CreaseProblem crease_problem = CreaseProblem::None;  // crease_structure.h
   int crease_excess = 0;                               // ... and how far from carrying its creases
+  int crease_rim_lack = 0;                             // crossings rims lack, counted here (crease_rims.h)
   RegionColour colour = RegionColour::None;
   bool set_aside = false;  // on a component left out of the layout (above)
 };
