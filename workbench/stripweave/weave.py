@@ -159,8 +159,8 @@ class WeaveOptions:
     take_back: bool = True          # last, take back added strips the layout is cleaner without (_take_back)
     take_back_share: float = 1.0    # ... spending at most this share of the budget on it
     crease_pairs: bool = False      # crease regions no single loop parts get pairs of crossing loops once
-                                    # every one was asked for one (_crease_pair): a pocket's or a boss's
-                                    # rim; off by default, as on the shared models the pairs' work came
+                                    # every one was asked for one, and after the rims (rim_lack):
+                                    # _crease_pair, a pocket's rim; off by default, as on the shared models the pairs' work came
                                     # out of the colour phases (README, "pairs of loops")
     query_polls: int = 400          # a loop query doing more work is stopped (no proposal there; 0: no cap)
     seed_directions: str = "adaptive"   # at a seed point: "all" (the best loop over all directions, the
