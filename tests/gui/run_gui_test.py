@@ -127,6 +127,12 @@ def preferences_page():
     page.saveSettings()
     check("preferences: saved in the parameter tree",
           App.ParamGet(preferences.PARAM_PATH).GetInt("TargetTriangles") == PREFERRED_TRIANGLES)
+    check("preferences: Auto weave's pairs of loops are off by default", not page.crease_pairs.isChecked())
+    page.crease_pairs.setChecked(True)
+    page.saveSettings()
+    check("preferences: the pairs check box is saved", preferences.auto_weave_crease_pairs() is True)
+    page.crease_pairs.setChecked(False)
+    page.saveSettings()
 
 
 def prepare_again(doc, box, sm):

@@ -15,7 +15,8 @@ try:
     from freecad.stripweave_wb import design_model, preferences, surface_model
 
     result["defaults"] = [preferences.target_triangles(), preferences.feature_angle(), preferences.tolerance(),
-                          preferences.boundary_mode(), preferences.auto_weave_max_strips()]
+                          preferences.boundary_mode(), preferences.auto_weave_max_strips(),
+                          preferences.auto_weave_crease_pairs()]
     grp = App.ParamGet("User parameter:BaseApp/Preferences/Mod/StripWeave")
     grp.SetInt("TargetTriangles", 3000)      # as the preferences page writes them
     grp.SetFloat("FeatureAngle", 40.0)
@@ -34,6 +35,9 @@ try:
     result["tolerance"] = preferences.tolerance()
     preferences.save(max_strips=12)
     result["max_strips"] = preferences.auto_weave_max_strips()
+    grp.SetBool("AutoWeaveCreasePairs", True)  # as the page's check box writes it
+    from freecad.stripweave_wb import weave_job
+    result["crease_pairs"] = weave_job.weave_options(crease_pairs=preferences.auto_weave_crease_pairs()).crease_pairs
     try:
         preferences.save(boundary_mode="sideways")
     except ValueError as exc:

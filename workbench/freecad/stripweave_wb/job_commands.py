@@ -96,7 +96,8 @@ class AutoWeaveCommand:
             if obj is None:
                 messages.error("Select a Design (New design makes one), then run Auto weave.")
                 return
-            weave_job.start(obj, max_strips=preferences.auto_weave_max_strips())
+            weave_job.start(obj, max_strips=preferences.auto_weave_max_strips(),
+                            crease_pairs=preferences.auto_weave_crease_pairs())
         except Exception:
             _internal_error("Auto weave")
 

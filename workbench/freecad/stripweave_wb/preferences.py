@@ -12,6 +12,9 @@ Parameters (``User parameter:BaseApp/Preferences/Mod/StripWeave``)::
     AutoWeaveMaxStrips int   strips at most after Auto weave (the user's included); 0:
                              automatic, 40 beyond the cuts the part's handles and holes
                              ask for (stripweave.weave.WeaveOptions.max_strips)
+    AutoWeaveCreasePairs bool  Auto weave tries pairs of crossing loops where no single
+                             loop parts a crease region (WeaveOptions.crease_pairs; off:
+                             README, "Pairs of loops")
 
 Readers take these at the moment a command runs (no caching), so a change on
 the page applies to the next command.  No Qt at import: the page class is
@@ -26,6 +29,7 @@ DEFAULT_FEATURE_ANGLE_DEG = 30.0
 DEFAULT_TOLERANCE = 0.0
 BOUNDARY_MODES = ("aligned", "trimmed")
 DEFAULT_AUTO_WEAVE_MAX_STRIPS = 0
+DEFAULT_AUTO_WEAVE_CREASE_PAIRS = False
 
 
 def group():
@@ -57,9 +61,17 @@ def auto_weave_max_strips():
     return value if value > 0 else None
 
 
-def save(target_triangles=None, feature_angle=None, tolerance=None, boundary_mode=None, max_strips=None):
+def auto_weave_crease_pairs():
+    """Whether Auto weave tries pairs of crossing loops on crease regions."""
+    return bool(group().GetBool("AutoWeaveCreasePairs", DEFAULT_AUTO_WEAVE_CREASE_PAIRS))
+
+
+def save(target_triangles=None, feature_angle=None, tolerance=None, boundary_mode=None, max_strips=None,
+         crease_pairs=None):
     """Write the given defaults (None: leave as is)."""
     g = group()
+    if crease_pairs is not None:
+        g.SetBool("AutoWeaveCreasePairs", bool(crease_pairs))
     if max_strips is not None:
         g.SetInt("AutoWeaveMaxStrips", int(max_strips))
     if target_triangles is not None:
@@ -111,7 +123,10 @@ def _page_class():
             layout.addRow("Feature angle", self.angle)
             layout.addRow("Patch fitting tolerance", self.tolerance)
             layout.addRow("Boundary mode (New design)", self.boundary)
+            self.crease_pairs = QtGui.QCheckBox("Pairs of crossing loops on crease regions (slower)")
+            self.crease_pairs.setObjectName("AutoWeaveCreasePairs")
             layout.addRow("Strips at most (Auto weave)", self.max_strips)
+            layout.addRow("Auto weave", self.crease_pairs)
 
         def loadSettings(self):
             self.triangles.setValue(target_triangles())
@@ -119,10 +134,11 @@ def _page_class():
             self.tolerance.setValue(tolerance() or 0.0)
             self.boundary.setCurrentIndex(BOUNDARY_MODES.index(boundary_mode()))
             self.max_strips.setValue(auto_weave_max_strips() or 0)
+            self.crease_pairs.setChecked(auto_weave_crease_pairs())
 
         def saveSettings(self):
             save(self.triangles.value(), self.angle.value(), self.tolerance.value(),
-                 self.boundary.currentText(), self.max_strips.value())
+                 self.boundary.currentText(), self.max_strips.value(), self.crease_pairs.isChecked())
 
     return PreferencesPage
 
