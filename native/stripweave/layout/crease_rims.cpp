@@ -2,6 +2,7 @@
 #include "stripweave/layout/crease_rims.h"
 
 #include <algorithm>
+#include <array>
 
 namespace stripweave {
 
@@ -15,22 +16,27 @@ struct RimWalk {
 
 struct Rims {
   const LoopArrangement& A;
-  const std::vector<std::uint8_t>& crease;
-  std::vector<std::vector<Index>> crease_edges;  // per refined vertex, its crease edges
-  std::vector<std::uint8_t> on_boundary, seen;
+  // Per refined vertex: how many crease edges meet there, the first two of
+  // them (a rim's vertices have exactly two), and whether it is on the open
+  // boundary. Flat arrays: this runs in every assessment of the weave.
+  std::vector<std::uint8_t> degree, on_boundary, seen;
+  std::vector<std::array<Index, 2>> crease_edges;
 
-  Rims(const LoopArrangement& a, const std::vector<std::uint8_t>& c)
-      : A(a), crease(c), crease_edges(a.mesh.num_vertices()), on_boundary(a.mesh.num_vertices(), 0),
-        seen(a.mesh.num_vertices(), 0) {
+  Rims(const LoopArrangement& a, const std::vector<std::uint8_t>& crease)
+      : A(a), degree(a.mesh.num_vertices(), 0), on_boundary(a.mesh.num_vertices(), 0),
+        seen(a.mesh.num_vertices(), 0), crease_edges(a.mesh.num_vertices(), {kInvalid, kInvalid}) {
     for (Index e = 0; e < A.topology.num_edges(); ++e) {
       if (crease[e])
-        for (Index v : A.topology.edges[e]) crease_edges[v].push_back(e);
+        for (Index v : A.topology.edges[e]) {
+          if (degree[v] < 2) crease_edges[v][degree[v]] = e;
+          degree[v] = static_cast<std::uint8_t>(std::min(3, degree[v] + 1));
+        }
       if (A.topology.is_boundary_edge(e))
         for (Index v : A.topology.edges[e]) on_boundary[v] = 1;
     }
   }
 
-  bool plain(Index v) const { return crease_edges[v].size() == 2 && !on_boundary[v]; }
+  bool plain(Index v) const { return degree[v] == 2 && !on_boundary[v]; }
 
   Index other(Index e, Index v) const {
     const EdgeKey& k = A.topology.edges[e];
