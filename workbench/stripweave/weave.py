@@ -159,9 +159,10 @@ class WeaveOptions:
     take_back: bool = True          # last, take back added strips the layout is cleaner without (_take_back)
     take_back_share: float = 1.0    # ... spending at most this share of the budget on it
     crease_pairs: bool = False      # crease regions no single loop parts get pairs of crossing loops once
-                                    # every one was asked for one, and after the rims (rim_lack):
-                                    # _crease_pair, a pocket's rim; off by default, as on the shared models the pairs' work came
-                                    # out of the colour phases (README, "pairs of loops")
+                                    # every one was asked for one, after the rims (rim_lack):
+                                    # _crease_pair, a pocket's rim; off by default, as on the shared
+                                    # models the pairs' work came out of the colour phases (README,
+                                    # "pairs of loops")
     query_polls: int = 400          # a loop query doing more work is stopped (no proposal there; 0: no cap)
     seed_directions: str = "adaptive"   # at a seed point: "all" (the best loop over all directions, the
                                     # principal directions where it gives none), "principal" (the loops
@@ -271,9 +272,8 @@ def score(a):
     # Then the crease regions (issue 17), by how far each is from carrying its creases
     # (crease_excess: nodes, pieces and exits beyond one...), which every loop that
     # separates two crease junctions lowers, where the count of crease regions may not.
-    # Before the excess, the crossings the rims lack (crease_rims.h): a loop across a rim
-    # raises the excess (the rim's pieces count until further loops part them) and is still
-    # a loop every conforming layout has, so counted by excess alone no rim is crossed.
+    # Once the crease phase has stalled, the crossings the rims lack count before the
+    # excess (rim_lack; 0 until then).
     crease = (rim_lack(a), sum(r["crease_excess"] for r in a["regions"]))
     return (genus, badness, patchless(a), crease, open_stretches(a), colour_flaws(a))
 
