@@ -1085,7 +1085,7 @@ class _ScriptedWeave:
         self.options, self.creases, self.cap = options, creases, max_strips
         self.design = type("Design", (), {})()
         self.design.strips = []
-        self.looking_harder = self.red_again = False
+        self.looking_harder = self.red_again = self.rims_counted = False
         self.work, self.cancelled, self.capped, self.spent, self.user_strips = 0.0, 0, 0, {}, 0
 
     def _names(self):
