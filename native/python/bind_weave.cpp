@@ -115,13 +115,10 @@ void bind_weave(py::module_& m) {
           for (Index k : g.singularities) quarters.push_back(d.field().singularities[k].quarter_index);
           x["singularity_quarters"] = quarters;
           // Where a loop across the crease would resolve a crease region (crease_structure.h).
-          // A region whose only problem is a rim short of crossings has the rim's seed.
-          const RegionCreases& rc = regions.creases.regions[r];
-          const bool rim = rc.problem == CreaseProblem::None && rc.rim_lack > 0 && rc.rim_seed != kInvalid;
-          const Index split = rim ? rc.rim_seed : rc.split_vertex;
+          const Index split = regions.creases.regions[r].split_vertex;
           if (g.crease_problem != CreaseProblem::None && split != kInvalid) {
             x["crease_seed"] = model_point(s, arrangement.mesh.positions[split]);
-            const Vec3& across = rim ? rc.rim_across : rc.split_across;   // the similarity only scales
+            const Vec3& across = regions.creases.regions[r].split_across;   // the similarity only scales
             x["crease_seed_across"] = std::vector<double>{across.x(), across.y(), across.z()};
           }
           py::list pts, clear;

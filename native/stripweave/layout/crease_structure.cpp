@@ -347,7 +347,9 @@ CreaseStructure crease_structure(const Surface& s, const LoopArrangement& A, con
     if (rim.lack == 0 || rim.region == kInvalid) continue;
     RegionCreases& rc = out.regions[rim.region];
     rc.rim_lack += rim.lack;
-    if (rc.rim_seed == kInvalid) rc.rim_seed = rim.seed, rc.rim_across = rim.across;
+    // The region's only problem is the rim: a loop across it is what resolves it.
+    if (rc.problem == CreaseProblem::None && rc.split_vertex == kInvalid)
+      rc.split_vertex = rim.seed, rc.split_across = rim.across;
   }
   return out;
 }

@@ -86,11 +86,10 @@ struct RegionCreases {
   // boundary. 0 iff problem is None.
   int excess = 0;
   // The crossings the rims lack whose seed lies in the region (crease_rims.h;
-  // a rim's lack counts once, at its seed), and that seed: where a loop
-  // across the rim, leaving along rim_across, adds crossings.
+  // a rim's lack counts once, at its seed). Where the star test finds no
+  // problem, split_vertex and split_across are then the first such rim's
+  // seed and its direction across the rim.
   int rim_lack = 0;
-  Index rim_seed = kInvalid;
-  Vec3 rim_across = Vec3::Zero();
 };
 
 struct CreaseStructure {
